@@ -1,0 +1,45 @@
+#pragma once
+// What a fluid is made of: grid size, relaxation, reference density, a boundary per side and a
+// uniform body force. Plain data; validate_fluid_config() says what is wrong with it, field by field.
+#include <array>
+#include <string>
+#include <vector>
+
+namespace lbsolid::fluid {
+
+using Vec3 = std::array<double, 3>;
+
+enum class WallKind {
+  kPeriodic,    // wraps to the opposite side (both sides of an axis must be periodic)
+  kBounceBack,  // half-way bounce-back: no-slip wall at rest
+  kMovingWall,  // Ladd's moving wall: no-slip wall moving at wall_velocity
+  kFreeSlip,    // specular reflection; `traction` is a tangential force per unit wall length
+};
+
+const char* wall_kind_name(WallKind kind);
+
+struct SideBoundary {
+  WallKind kind = WallKind::kPeriodic;
+  Vec3 wall_velocity{0, 0, 0};  // kMovingWall only: tangential velocity, lattice units per step
+  Vec3 traction{0, 0, 0};       // kFreeSlip only: tangential stress on the adjacent fluid layer
+};
+
+// Sides in the order x_low, x_high, y_low, y_high, z_low, z_high.
+enum Side { kXLow = 0, kXHigh, kYLow, kYHigh, kZLow, kZHigh };
+const char* side_name(int side);
+
+struct FluidConfig {
+  int nx = 1, ny = 1, nz = 1;  // nodes per axis (nz = 1 in 2D)
+  double omega = 1.0;          // BGK relaxation rate, in (0, 2)
+  double rho0 = 1.0;           // reference density: storage offset and moving-wall density
+  std::array<SideBoundary, 6> sides{};
+  Vec3 body_force{0, 0, 0};  // force per node (momentum added per node per step)
+  int threads = 1;           // worker threads for the fused kernel
+};
+
+// Every problem with `config` for a lattice of dimension `dimension`, each as
+// "<field>: <reason>". Empty when the configuration can run.
+std::vector<std::string> validate_fluid_config(const FluidConfig& config, int dimension,
+                                               bool hexagonal);
+
+}  // namespace lbsolid::fluid

@@ -1,0 +1,200 @@
+#include "fluid/fluid_lattice.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "fluid/bgk_collision.h"
+#include "fluid/stream_collide_kernel.h"
+#include "lattice/d2q7.h"
+#include "lattice/d2q9.h"
+#include "lattice/d3q19.h"
+
+namespace lbsolid::fluid {
+
+namespace {
+
+template <class L>
+const FluidConfig& checked(const FluidConfig& config) {
+  const auto errors = validate_fluid_config(config, L::D, L::hexagonal);
+  if (!errors.empty()) {
+    std::string message = std::string("invalid ") + L::name + " fluid: ";
+    for (std::size_t k = 0; k < errors.size(); ++k) message += (k ? "; " : "") + errors[k];
+    throw std::invalid_argument(message);
+  }
+  return config;
+}
+
+bool any_force(const FluidConfig& c) {
+  auto nonzero = [](const Vec3& v) { return v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0; };
+  bool force = nonzero(c.body_force);
+  for (const auto& side : c.sides) force = force || (side.kind == WallKind::kFreeSlip && nonzero(side.traction));
+  return force;
+}
+
+}  // namespace
+
+template <class L, class T>
+FluidLattice<L, T>::FluidLattice(const FluidConfig& config)
+    : config_(checked<L>(config)),
+      cells_(static_cast<long>(config.nx) * config.ny * config.nz),
+      has_force_(any_force(config)),
+      plans_(config),
+      buffer_(2 * static_cast<std::size_t>(Q) * cells_, T(0)),
+      pool_(std::make_unique<parallel::ThreadPool>(config.threads)) {
+  initialize_uniform(config_.rho0, {0, 0, 0});
+}
+
+template <class L, class T>
+FluidLattice<L, T>::~FluidLattice() = default;
+
+template <class L, class T>
+void FluidLattice<L, T>::set_threads(int threads) {
+  if (threads < 1) throw std::invalid_argument("threads: must be at least 1, got " + std::to_string(threads));
+  config_.threads = threads;
+  pool_ = std::make_unique<parallel::ThreadPool>(threads);
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::initialize(const std::function<double(int, int, int)>& density,
+                                    const std::function<Vec3(int, int, int)>& velocity) {
+  using Collision = BgkCollision<L, T>;
+  T* f = current();
+  const T rho0 = static_cast<T>(config_.rho0);
+  auto equilibrium_at = [&](int x, int y, int z, std::array<T, Q>& feq) {
+    const T rho = static_cast<T>(density(x, y, z));
+    const Vec3 v = velocity(x, y, z);
+    const auto& force = plans_.for_row(y, z).force;
+    // The populations carry sum f c = rho u - F/2, so the observed velocity is exactly v.
+    T u[3];
+    for (int a = 0; a < 3; ++a) u[a] = static_cast<T>(v[a]) - (has_force_ ? T(0.5) * force[a] / rho : T(0));
+    const T usq = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    for (int i = 0; i < Q; ++i) feq[i] = Collision::equilibrium(i, rho, rho0, u, usq);
+  };
+  std::array<T, Q> feq;
+  // First the local equilibrium everywhere (covers populations no node pulls), then each pulled
+  // population at its source, so that gathering at time 0 returns the equilibrium exactly.
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int z = 0; z < config_.nz; ++z) {
+      for (int y = 0; y < config_.ny; ++y) {
+        const auto& plan = plans_.for_row(y, z);
+        for (int x = 0; x < config_.nx; ++x) {
+          equilibrium_at(x, y, z, feq);
+          const long c = cell(x, y, z);
+          const auto& sources = plan.sources[RowPlans<L, T>::part_of(x, config_.nx)];
+          for (int i = 0; i < Q; ++i) {
+            if (pass == 0) {
+              f[i * cells_ + c] = feq[i];
+            } else {
+              f[sources[i].dir * cells_ + c + sources[i].delta] = feq[i] - sources[i].correction;
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::initialize_uniform(double density, const Vec3& velocity) {
+  initialize([density](int, int, int) { return density; },
+             [velocity](int, int, int) { return velocity; });
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::step() {
+  using Collision = BgkCollision<L, T>;
+  const T* src = current();
+  T* dst = next();
+  const T omega = static_cast<T>(config_.omega);
+  const T rho0 = static_cast<T>(config_.rho0);
+  const long rows = static_cast<long>(config_.ny) * config_.nz;
+  const int nx = config_.nx, ny = config_.ny;
+  const long cells = cells_;
+  const auto& plans = plans_;
+  if (has_force_) {
+    pool_->parallel_for(rows, [&](long begin, long end) {
+      stream_collide_rows<L, T, Collision, true>(plans, src, dst, cells, nx, ny, begin, end, omega, rho0);
+    });
+  } else {
+    pool_->parallel_for(rows, [&](long begin, long end) {
+      stream_collide_rows<L, T, Collision, false>(plans, src, dst, cells, nx, ny, begin, end, omega, rho0);
+    });
+  }
+  current_ ^= 1;
+  ++steps_;
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::run(long steps) {
+  for (long s = 0; s < steps; ++s) step();
+}
+
+template <class L, class T>
+std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
+  const T* f = current();
+  const auto& sources = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)];
+  const long c = cell(x, y, z);
+  std::array<T, Q> g;
+  for (int i = 0; i < Q; ++i) g[i] = f[sources[i].dir * cells_ + c + sources[i].delta] + sources[i].correction;
+  return g;
+}
+
+template <class L, class T>
+Moments FluidLattice<L, T>::moments(int x, int y, int z) const {
+  const auto g = gather(x, y, z);
+  double drho = 0, j[3] = {0, 0, 0};
+  for (int i = 0; i < Q; ++i) {
+    drho += g[i];
+    for (int a = 0; a < 3; ++a) j[a] += L::c[i][a] * static_cast<double>(g[i]);
+  }
+  Moments m{config_.rho0 + drho, {0, 0, 0}};
+  const auto& force = plans_.for_row(y, z).force;
+  for (int a = 0; a < 3; ++a) m.u[a] = (j[a] + (has_force_ ? 0.5 * force[a] : 0.0)) / m.rho;
+  return m;
+}
+
+template <class L, class T>
+std::array<double, L::Q> FluidLattice<L, T>::populations(int x, int y, int z) const {
+  const auto g = gather(x, y, z);
+  std::array<double, Q> f;
+  for (int i = 0; i < Q; ++i) f[i] = static_cast<double>(g[i]) + L::w[i] * config_.rho0;
+  return f;
+}
+
+template <class L, class T>
+double FluidLattice<L, T>::total_mass() const {
+  double drho = 0;
+  for (int z = 0; z < config_.nz; ++z)
+    for (int y = 0; y < config_.ny; ++y)
+      for (int x = 0; x < config_.nx; ++x)
+        for (T g : gather(x, y, z)) drho += g;
+  return config_.rho0 * static_cast<double>(cells_) + drho;
+}
+
+template <class L, class T>
+Vec3 FluidLattice<L, T>::total_momentum() const {
+  Vec3 p{0, 0, 0};
+  for (int z = 0; z < config_.nz; ++z)
+    for (int y = 0; y < config_.ny; ++y)
+      for (int x = 0; x < config_.nx; ++x) {
+        const auto g = gather(x, y, z);
+        for (int i = 0; i < Q; ++i)
+          for (int a = 0; a < 3; ++a) p[a] += L::c[i][a] * static_cast<double>(g[i]);
+      }
+  return p;
+}
+
+template <class L, class T>
+Vec3 FluidLattice<L, T>::position(int x, int y, int z) {
+  const double shift = L::hexagonal ? 0.5 * (y & 1) : 0.0;
+  return {x + shift, y * L::row_spacing, static_cast<double>(z)};
+}
+
+template class FluidLattice<lattice::D2Q9, double>;
+template class FluidLattice<lattice::D2Q9, float>;
+template class FluidLattice<lattice::D2Q7, double>;
+template class FluidLattice<lattice::D2Q7, float>;
+template class FluidLattice<lattice::D3Q19, double>;
+template class FluidLattice<lattice::D3Q19, float>;
+
+}  // namespace lbsolid::fluid

@@ -1,0 +1,78 @@
+#pragma once
+// A lattice-Boltzmann fluid on one lattice (D2Q9, D2Q7, D3Q19) in one precision (float, double):
+// structure-of-arrays populations in two buffers, advanced by the fused pull kernel. Density and
+// velocity are computed only on request.
+//
+// State convention: after step t the buffer holds post-collision populations; the fluid "at time
+// t" is what the next step pulls, so every observer below gathers through the same boundary rules
+// as the kernel. initialize() sets that gathered state to the equilibrium of the given fields.
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "fluid/fluid_config.h"
+#include "fluid/row_plan.h"
+#include "parallel/thread_pool.h"
+
+namespace lbsolid::fluid {
+
+struct Moments {
+  double rho;
+  Vec3 u;  // physical velocity (sum f c + F/2) / rho
+};
+
+template <class L, class T>
+class FluidLattice {
+ public:
+  using Lattice = L;
+  using Real = T;
+  static constexpr int Q = L::Q;
+
+  // Throws std::invalid_argument naming every bad field (validate_fluid_config).
+  explicit FluidLattice(const FluidConfig& config);
+  ~FluidLattice();
+
+  const FluidConfig& config() const { return config_; }
+  long cells() const { return cells_; }
+  long step_count() const { return steps_; }
+  std::size_t bytes_allocated() const { return 2 * buffer_.size() * sizeof(T); }
+
+  // Equilibrium of the given density and velocity at every node.
+  void initialize(const std::function<double(int, int, int)>& density,
+                  const std::function<Vec3(int, int, int)>& velocity);
+  void initialize_uniform(double density, const Vec3& velocity);
+
+  void step();
+  void run(long steps);
+  void set_threads(int threads);
+
+  // Observers (computed on request).
+  Moments moments(int x, int y, int z = 0) const;
+  double density(int x, int y, int z = 0) const { return moments(x, y, z).rho; }
+  Vec3 velocity(int x, int y, int z = 0) const { return moments(x, y, z).u; }
+  std::array<double, L::Q> populations(int x, int y, int z = 0) const;  // f_i at time t
+  double total_mass() const;
+  Vec3 total_momentum() const;  // sum over nodes of sum_i f_i c_i
+  // Position of node (x, y, z) in lattice units (D2Q7 rows are staggered and sqrt(3)/2 apart).
+  static Vec3 position(int x, int y, int z = 0);
+
+ private:
+  long cell(int x, int y, int z) const { return plans_.cell(x, y, z); }
+  std::array<T, L::Q> gather(int x, int y, int z) const;  // shifted populations at time t
+  const T* current() const { return buffer_.data() + (current_ ? Q * cells_ : 0); }
+  T* current() { return buffer_.data() + (current_ ? Q * cells_ : 0); }
+  T* next() { return buffer_.data() + (current_ ? 0 : Q * cells_); }
+
+  FluidConfig config_;
+  long cells_;
+  bool has_force_;
+  RowPlans<L, T> plans_;
+  std::vector<T> buffer_;  // two buffers of Q * cells populations, back to back
+  int current_ = 0;
+  long steps_ = 0;
+  std::unique_ptr<parallel::ThreadPool> pool_;
+};
+
+}  // namespace lbsolid::fluid

@@ -1,0 +1,80 @@
+#pragma once
+// The pull sources of every population, precomputed per row class. Rows differ only in whether
+// they touch a y or z side and (D2Q7) in their parity, and cells of a row only in whether they are
+// the first, an interior or the last cell; so a handful of plans describes the whole grid and the
+// fused kernel reads each population as `base[x] + correction` with no branch per cell.
+#include <array>
+#include <vector>
+
+#include "fluid/fluid_config.h"
+#include "fluid/pull_source.h"
+
+namespace lbsolid::fluid {
+
+template <class T, int Q>
+struct PullSource {
+  int dir = 0;
+  long delta = 0;  // source cell minus destination cell
+  T correction = 0;
+};
+
+template <class T, int Q>
+struct RowPlan {
+  // [0] the first cell of the row, [1] interior cells, [2] the last cell.
+  std::array<std::array<PullSource<T, Q>, Q>, 3> sources{};
+  T force[3] = {0, 0, 0};  // body force plus the traction of an adjacent free-slip wall
+  bool present = false;
+};
+
+template <class L, class T>
+class RowPlans {
+ public:
+  static constexpr int Q = L::Q;
+  RowPlans() = default;
+  explicit RowPlans(const FluidConfig& cfg) : nx_(cfg.nx), ny_(cfg.ny), nz_(cfg.nz), plans_(32) {
+    for (int z = 0; z < nz_; ++z) {
+      for (int y = 0; y < ny_; ++y) {
+        RowPlan<T, Q>& plan = plans_[key(y, z)];
+        if (plan.present) continue;
+        plan.present = true;
+        const int xs[3] = {0, nx_ > 2 ? 1 : 0, nx_ - 1};
+        for (int part = 0; part < 3; ++part) {
+          const long dest = cell(xs[part], y, z);
+          for (int i = 0; i < Q; ++i) {
+            const PullSourceRule r = resolve_pull_source<L>(cfg, i, xs[part], y, z);
+            plan.sources[part][i] = {r.dir, cell(r.node[0], r.node[1], r.node[2]) - dest,
+                                     static_cast<T>(r.correction)};
+          }
+        }
+        Vec3 force = cfg.body_force;
+        auto add_traction = [&](int side) {
+          if (cfg.sides[side].kind != WallKind::kFreeSlip) return;
+          for (int a = 0; a < 3; ++a) force[a] += cfg.sides[side].traction[a];
+        };
+        if (L::D >= 2 && y == 0) add_traction(kYLow);
+        if (L::D >= 2 && y == ny_ - 1) add_traction(kYHigh);
+        if (L::D == 3 && z == 0) add_traction(kZLow);
+        if (L::D == 3 && z == nz_ - 1) add_traction(kZHigh);
+        for (int a = 0; a < 3; ++a) plan.force[a] = static_cast<T>(force[a]);
+      }
+    }
+  }
+
+  const RowPlan<T, Q>& for_row(int y, int z) const { return plans_[key(y, z)]; }
+  static int part_of(int x, int nx) { return x == 0 ? 0 : (x == nx - 1 ? 2 : 1); }
+  long cell(int x, int y, int z) const {
+    return x + static_cast<long>(nx_) * (y + static_cast<long>(ny_) * z);
+  }
+
+ private:
+  int key(int y, int z) const {
+    const int ycat = (y == 0 ? 1 : 0) | (y == ny_ - 1 ? 2 : 0);
+    const int zcat = (z == 0 ? 1 : 0) | (z == nz_ - 1 ? 2 : 0);
+    const int parity = L::hexagonal ? (y & 1) : 0;
+    return (ycat * 4 + zcat) * 2 + parity;
+  }
+  int nx_ = 0, ny_ = 0, nz_ = 0;
+  std::vector<RowPlan<T, Q>> plans_;
+};
+
+}  // namespace lbsolid::fluid

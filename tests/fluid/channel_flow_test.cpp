@@ -1,0 +1,107 @@
+// Steady channel flows against their analytic profiles: Poiseuille (body force between no-slip
+// walls), Couette (a moving wall), and stress-driven shear (traction on free-slip walls).
+#include <gtest/gtest.h>
+
+#include "fluid/fluid_test_support.h"
+
+namespace lbsolid::testing {
+namespace {
+
+constexpr int kWidth = 32;  // rows across the channel
+
+// Physical y of each row and of the half-way walls below and above them.
+template <class L>
+double row_y(int y) {
+  return y * L::row_spacing;
+}
+template <class L>
+double wall_low() {
+  return -0.5 * L::row_spacing;
+}
+template <class L>
+double wall_high(int ny) {
+  return (ny - 0.5) * L::row_spacing;
+}
+
+template <class L, class T>
+std::vector<double> poiseuille_run(double* g_out = nullptr) {
+  FluidConfig c = channel_config<L>(kWidth, WallKind::kBounceBack, WallKind::kBounceBack);
+  const double nu = bgk_viscosity<L>(c.omega);
+  const double h = wall_high<L>(kWidth) - wall_low<L>();
+  const double u_max = 0.02;
+  const double g = 8.0 * nu * u_max / (h * h);
+  c.body_force = {g * c.rho0, 0, 0};
+  if (g_out) *g_out = g;
+  FluidLattice<L, T> fluid(c);
+  return run_to_steady_profile(fluid, 1e-9, 40000);
+}
+
+template <class L>
+class ChannelFlowTest : public ::testing::Test {};
+using Lattices = ::testing::Types<D2Q9, D2Q7, D3Q19>;
+TYPED_TEST_SUITE(ChannelFlowTest, Lattices);
+
+TYPED_TEST(ChannelFlowTest, PoiseuilleProfileIsTheParabola) {
+  using L = TypeParam;
+  double g = 0;
+  const std::vector<double> profile = poiseuille_run<L, double>(&g);
+  const double nu = bgk_viscosity<L>(1.0);
+  std::vector<double> parabola;
+  for (int y = 0; y < kWidth; ++y) {
+    const double yy = row_y<L>(y);
+    parabola.push_back(g / (2 * nu) * (yy - wall_low<L>()) * (wall_high<L>(kWidth) - yy));
+  }
+  report(std::string(L::name) + " Poiseuille relative L2 error", relative_l2(profile, parabola), 0.01);
+  EXPECT_LT(relative_l2(profile, parabola), 0.01);
+}
+
+TYPED_TEST(ChannelFlowTest, FloatAgreesWithDoubleOnPoiseuille) {
+  using L = TypeParam;
+  const std::vector<double> in_double = poiseuille_run<L, double>();
+  const std::vector<double> in_float = poiseuille_run<L, float>();
+  report(std::string(L::name) + " float vs double Poiseuille", relative_l2(in_float, in_double), 1e-4);
+  EXPECT_LT(relative_l2(in_float, in_double), 1e-4);
+}
+
+TYPED_TEST(ChannelFlowTest, CouetteProfileIsLinear) {
+  using L = TypeParam;
+  FluidConfig c = channel_config<L>(kWidth, WallKind::kBounceBack, WallKind::kMovingWall);
+  const double u_wall = 0.05;
+  c.sides[fluid::kYHigh].wall_velocity = {u_wall, 0, 0};
+  FluidLattice<L, double> fluid(c);
+  const std::vector<double> profile = run_to_steady_profile(fluid, 1e-10, 40000);
+  const double h = wall_high<L>(kWidth) - wall_low<L>();
+  double worst = 0;
+  for (int y = 0; y < kWidth; ++y) {
+    const double expected = u_wall * (row_y<L>(y) - wall_low<L>()) / h;
+    worst = std::max(worst, std::abs(profile[y] - expected) / u_wall);
+  }
+  report(std::string(L::name) + " Couette max deviation / u_wall", worst, 0.005);
+  EXPECT_LT(worst, 0.005) << "largest deviation from the line, relative to the wall speed";
+}
+
+TYPED_TEST(ChannelFlowTest, TractionDrivenShearHasGradientSigmaOverRhoNu) {
+  using L = TypeParam;
+  FluidConfig c = channel_config<L>(kWidth, WallKind::kFreeSlip, WallKind::kFreeSlip);
+  const double sigma = 1e-5;  // tangential force per unit wall length
+  c.sides[fluid::kYHigh].traction = {sigma, 0, 0};
+  c.sides[fluid::kYLow].traction = {-sigma, 0, 0};
+  FluidLattice<L, double> fluid(c);
+  const std::vector<double> profile = run_to_steady_profile(fluid, 1e-12, 60000);
+  // The traction acts inside the two wall layers, so the full stress sigma is carried only
+  // between them: the gradient is read off the rows in between (the profile is straight there).
+  std::vector<double> ys, bulk;
+  for (int y = 1; y < kWidth - 1; ++y) {
+    ys.push_back(row_y<L>(y));
+    bulk.push_back(profile[y]);
+  }
+  // Mass per unit area: one node covers 1 x row_spacing (D2Q7: sqrt(3)/2) in 2D, 1 in 3D.
+  const double rho_area = c.rho0 / (L::D == 3 ? 1.0 : L::row_spacing);
+  const double expected = sigma / (rho_area * bgk_viscosity<L>(c.omega));
+  const double ratio = fit_line(ys, bulk).slope / expected;
+  report(std::string(L::name) + " traction shear gradient error", std::abs(ratio - 1), 0.01);
+  EXPECT_NEAR(ratio, 1.0, 0.01);
+}
+
+}  // namespace
+}  // namespace lbsolid::testing
