@@ -14,6 +14,7 @@ struct BgkCollision {
   static inline void moments(const T* f, T rho0, T& rho, T (&j)[3]) {
     T drho = 0;
     j[0] = j[1] = j[2] = 0;
+#pragma GCC unroll 32
     for (int i = 0; i < Q; ++i) {
       drho += f[i];
       j[0] += T(L::c[i][0]) * f[i];
@@ -44,11 +45,13 @@ struct BgkCollision {
     for (int a = 0; a < 3; ++a) u[a] = kForce ? (j[a] + T(0.5) * force[a]) * inv_rho : j[a] * inv_rho;
     if constexpr (L::D == 2) u[2] = 0;
     const T usq = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+#pragma GCC unroll 32
     for (int i = 0; i < Q; ++i) {
       f[i] += omega * (equilibrium(i, rho, rho0, u, usq) - f[i]);
       if constexpr (kForce) {
         const T cu = T(L::c[i][0]) * u[0] + T(L::c[i][1]) * u[1] + T(L::c[i][2]) * u[2];
         T source = 0;
+#pragma GCC unroll 3
         for (int a = 0; a < 3; ++a) {
           source += ((T(L::c[i][a]) - u[a]) * inv_cs2 + cu * T(L::c[i][a]) * inv_cs2 * inv_cs2) *
                     force[a];

@@ -1,0 +1,129 @@
+// lbsolid-bench: fluid kernel throughput against the memory roofline.
+// For each lattice and precision: MLUPS on a grid far larger than the last-level cache, with one
+// thread and with all cores, beside the copy bandwidth measured in the same run, the bytes moved
+// per cell update, the roofline that implies, and the fraction of it reached.
+//   lbsolid-bench [--json] [--quick] [--threads N]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench/memory_bandwidth.h"
+#include "fluid/fluid_lattice.h"
+#include "lattice/d2q7.h"
+#include "lattice/d2q9.h"
+#include "lattice/d3q19.h"
+
+namespace lbsolid::bench {
+namespace {
+
+struct Row {
+  std::string lattice, precision;
+  int threads;
+  long cells;
+  double mlups, bytes_per_update, bandwidth, roofline;
+};
+
+// Grid with at least `min_cells` cells: square in 2D, cubic in 3D.
+template <class L>
+fluid::FluidConfig big_grid(long min_cells, int threads) {
+  fluid::FluidConfig c;
+  if (L::D == 3) {
+    const int n = static_cast<int>(std::ceil(std::cbrt(static_cast<double>(min_cells))));
+    c.nx = c.ny = c.nz = n;
+  } else {
+    int n = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(min_cells))));
+    n += n % 2;  // D2Q7 periodic in y needs an even row count
+    c.nx = c.ny = n;
+  }
+  c.omega = 1.0;
+  c.threads = threads;
+  return c;
+}
+
+template <class L, class T>
+Row measure(std::size_t working_set, int threads, double bandwidth, double min_seconds) {
+  // Two buffers of Q populations per cell: choose the cell count that fills `working_set`.
+  const double bytes_per_update = 2.0 * L::Q * sizeof(T);
+  const long cells = static_cast<long>(working_set / bytes_per_update);
+  fluid::FluidLattice<L, T> fluid(big_grid<L>(cells, threads));
+  fluid.initialize([](int, int, int) { return 1.0; },
+                   [](int x, int y, int) { return fluid::Vec3{0.01 * std::sin(0.1 * y), 0.01 * std::cos(0.1 * x), 0}; });
+  fluid.run(2);  // warm up: page in both buffers
+  long steps = 0;
+  double seconds = 0;
+  const auto start = std::chrono::steady_clock::now();
+  while (seconds < min_seconds) {
+    fluid.step();
+    ++steps;
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  const double mlups = static_cast<double>(fluid.cells()) * steps / seconds / 1e6;
+  return {L::name, sizeof(T) == 8 ? "double" : "float", threads, fluid.cells(), mlups, bytes_per_update,
+          bandwidth, bandwidth / bytes_per_update / 1e6};
+}
+
+}  // namespace
+}  // namespace lbsolid::bench
+
+int main(int argc, char** argv) {
+  using namespace lbsolid;
+  using namespace lbsolid::bench;
+  bool json = false, quick = false;
+  int all = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  for (int k = 1; k < argc; ++k) {
+    if (!std::strcmp(argv[k], "--json")) json = true;
+    else if (!std::strcmp(argv[k], "--quick")) quick = true;
+    else if (!std::strcmp(argv[k], "--threads") && k + 1 < argc) all = std::max(1, std::atoi(argv[++k]));
+    else {
+      std::fprintf(stderr, "usage: lbsolid-bench [--json] [--quick] [--threads N]\n");
+      return 2;
+    }
+  }
+  const std::size_t llc = last_level_cache_bytes();
+  // Working sets of 8x the last-level cache (quick: 4x) leave no doubt the cache cannot hold them.
+  const std::size_t working_set = (quick ? 4 : 8) * llc;
+  const double min_seconds = quick ? 0.3 : 2.0;
+  std::vector<int> thread_counts = {1};
+  if (all > 1) thread_counts.push_back(all);
+
+  std::vector<Row> rows;
+  for (int threads : thread_counts) {
+    const double bandwidth = copy_bandwidth(working_set / 2, threads, quick ? 3 : 10);
+    rows.push_back(measure<lattice::D2Q9, double>(working_set, threads, bandwidth, min_seconds));
+    rows.push_back(measure<lattice::D2Q9, float>(working_set, threads, bandwidth, min_seconds));
+    rows.push_back(measure<lattice::D2Q7, double>(working_set, threads, bandwidth, min_seconds));
+    rows.push_back(measure<lattice::D2Q7, float>(working_set, threads, bandwidth, min_seconds));
+    rows.push_back(measure<lattice::D3Q19, double>(working_set, threads, bandwidth, min_seconds));
+    rows.push_back(measure<lattice::D3Q19, float>(working_set, threads, bandwidth, min_seconds));
+  }
+
+  if (json) {
+    std::printf("{\n  \"last_level_cache_bytes\": %zu,\n  \"streaming\": \"two-buffer pull (A-B)\",\n  \"results\": [\n", llc);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const Row& r = rows[k];
+      std::printf("    {\"lattice\": \"%s\", \"precision\": \"%s\", \"threads\": %d, \"cells\": %ld, "
+                  "\"mlups\": %.2f, \"bytes_per_update\": %.0f, \"copy_bandwidth_gbs\": %.2f, "
+                  "\"roofline_mlups\": %.2f, \"fraction_of_roofline\": %.3f}%s\n",
+                  r.lattice.c_str(), r.precision.c_str(), r.threads, r.cells, r.mlups, r.bytes_per_update,
+                  r.bandwidth / 1e9, r.roofline, r.mlups / r.roofline, k + 1 < rows.size() ? "," : "");
+    }
+    std::printf("  ]\n}\n");
+    return 0;
+  }
+  std::printf("lbsolid-bench: fused BGK stream-collide, two-buffer pull streaming, periodic box\n");
+  std::printf("last-level cache %.0f MiB; working set %.0f MiB per run\n\n", llc / 1048576.0,
+              working_set / 1048576.0);
+  std::printf("%-6s %-7s %7s %10s %9s %11s %12s %14s %9s\n", "lattice", "prec", "threads", "cells", "MLUPS",
+              "bytes/cell", "copy GB/s", "roofline MLUPS", "fraction");
+  for (const Row& r : rows) {
+    std::printf("%-6s %-7s %7d %10ld %9.1f %11.0f %12.1f %14.1f %8.0f%%\n", r.lattice.c_str(),
+                r.precision.c_str(), r.threads, r.cells, r.mlups, r.bytes_per_update, r.bandwidth / 1e9,
+                r.roofline, 100.0 * r.mlups / r.roofline);
+  }
+  return 0;
+}
