@@ -2,6 +2,15 @@
 // BGK collision (MODEL.md eq. 1) with Guo's second-order forcing, on populations stored as the
 // deviation from rest, f~_i = f_i - w_i rho0, which keeps float storage accurate (the rest part
 // is ~10^2 times the flow part and would otherwise eat the mantissa).
+//
+// The directions are unrolled at compile time so that products with a zero velocity component
+// vanish from the code: a compiler may not drop `x * 0` itself (NaN * 0 is NaN), and on D3Q19
+// those products were most of the arithmetic.
+#include <utility>
+
+// The collision must be inlined into the cell loop for that loop to vectorise.
+#define LBSOLID_FORCE_INLINE inline __attribute__((always_inline))
+
 #include "lattice/lattice_traits.h"
 
 namespace lbsolid::fluid {
@@ -9,35 +18,65 @@ namespace lbsolid::fluid {
 template <class L, class T>
 struct BgkCollision {
   static constexpr int Q = L::Q;
+  static constexpr T kInvCs2 = T(1.0 / L::cs2);
+
+  // s + c_{I,A} v, with c = 0 and c = +-1 resolved at compile time. Sums start from -0.0, the
+  // exact identity of floating-point addition, so the first term needs no special case.
+  template <int I, int A>
+  static inline T add_c(T s, T v) {
+    constexpr double c = L::c[I][A];
+    if constexpr (c == 0.0) return s;
+    else if constexpr (c == 1.0) return s + v;
+    else if constexpr (c == -1.0) return s - v;
+    else return s + T(c) * v;
+  }
+
+  template <int I>
+  static inline T c_dot(const T (&v)[3]) {
+    return add_c<I, 2>(add_c<I, 1>(add_c<I, 0>(T(-0.0), v[0]), v[1]), v[2]);
+  }
+
+  template <int... I>
+  static inline T zeroth_moment(const T* f, std::integer_sequence<int, I...>) {
+    T s = T(-0.0);
+    ((s += f[I]), ...);
+    return s;
+  }
+
+  template <int A, int... I>
+  static inline T first_moment(const T* f, std::integer_sequence<int, I...>) {
+    T s = T(-0.0);
+    ((s = add_c<I, A>(s, f[I])), ...);
+    return s;
+  }
 
   // Density and momentum sum_i f_i c_i of shifted populations.
-  static inline void moments(const T* f, T rho0, T& rho, T (&j)[3]) {
-    T drho = 0;
-    j[0] = j[1] = j[2] = 0;
-#pragma GCC unroll 32
-    for (int i = 0; i < Q; ++i) {
-      drho += f[i];
-      j[0] += T(L::c[i][0]) * f[i];
-      j[1] += T(L::c[i][1]) * f[i];
-      if constexpr (L::D == 3) j[2] += T(L::c[i][2]) * f[i];
-    }
-    rho = rho0 + drho;
+  static LBSOLID_FORCE_INLINE void moments(const T* f, T rho0, T& rho, T (&j)[3]) {
+    constexpr auto dirs = std::make_integer_sequence<int, Q>{};
+    rho = rho0 + zeroth_moment(f, dirs);
+    j[0] = first_moment<0>(f, dirs);
+    j[1] = first_moment<1>(f, dirs);
+    j[2] = L::D == 3 ? first_moment<2>(f, dirs) : T(0);
   }
 
   // Shifted equilibrium w_i (rho - rho0) + w_i rho (c.u/cs2 + (c.u)^2/(2 cs4) - u.u/(2 cs2)).
   static inline T equilibrium(int i, T rho, T rho0, const T (&u)[3], T usq) {
-    constexpr T inv_cs2 = T(1.0 / L::cs2);
     const T cu = T(L::c[i][0]) * u[0] + T(L::c[i][1]) * u[1] + T(L::c[i][2]) * u[2];
-    return T(L::w[i]) *
-           ((rho - rho0) + rho * (cu * inv_cs2 + T(0.5) * cu * cu * inv_cs2 * inv_cs2 -
-                                  T(0.5) * usq * inv_cs2));
+    return T(L::w[i]) * ((rho - rho0) + rho * (cu * kInvCs2 + T(0.5) * cu * cu * kInvCs2 * kInvCs2 -
+                                                T(0.5) * usq * kInvCs2));
   }
 
   // One collision in place. With kForce, F is the force on this node and the velocity in the
   // equilibrium is (sum f c + F/2) / rho (Guo et al. 2002), so the momentum gained is exactly F.
   template <bool kForce>
-  static inline void collide(T* f, T omega, T rho0, const T (&force)[3]) {
-    constexpr T inv_cs2 = T(1.0 / L::cs2);
+  static LBSOLID_FORCE_INLINE void collide(T* f, T omega, T rho0, const T (&force)[3]) {
+    collide_directions<kForce>(f, omega, rho0, force, std::make_integer_sequence<int, Q>{});
+  }
+
+ private:
+  template <bool kForce, int... I>
+  static LBSOLID_FORCE_INLINE void collide_directions(T* f, T omega, T rho0, const T (&force)[3],
+                                        std::integer_sequence<int, I...>) {
     T rho, j[3];
     moments(f, rho0, rho, j);
     const T inv_rho = T(1) / rho;
@@ -45,20 +84,20 @@ struct BgkCollision {
     for (int a = 0; a < 3; ++a) u[a] = kForce ? (j[a] + T(0.5) * force[a]) * inv_rho : j[a] * inv_rho;
     if constexpr (L::D == 2) u[2] = 0;
     const T usq = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-#pragma GCC unroll 32
-    for (int i = 0; i < Q; ++i) {
-      f[i] += omega * (equilibrium(i, rho, rho0, u, usq) - f[i]);
+    // Terms of the equilibrium common to every direction.
+    const T isotropic = (rho - rho0) - T(0.5) * rho * usq * kInvCs2;
+    const T u_dot_force = kForce ? u[0] * force[0] + u[1] * force[1] + u[2] * force[2] : T(0);
+    const T source_scale = T(1) - T(0.5) * omega;
+    auto relax = [&]<int K>(std::integral_constant<int, K>) __attribute__((always_inline)) {
+      const T cu = c_dot<K>(u);
+      const T feq = T(L::w[K]) * (isotropic + rho * cu * (kInvCs2 + T(0.5) * cu * kInvCs2 * kInvCs2));
+      f[K] += omega * (feq - f[K]);
       if constexpr (kForce) {
-        const T cu = T(L::c[i][0]) * u[0] + T(L::c[i][1]) * u[1] + T(L::c[i][2]) * u[2];
-        T source = 0;
-#pragma GCC unroll 3
-        for (int a = 0; a < 3; ++a) {
-          source += ((T(L::c[i][a]) - u[a]) * inv_cs2 + cu * T(L::c[i][a]) * inv_cs2 * inv_cs2) *
-                    force[a];
-        }
-        f[i] += (T(1) - T(0.5) * omega) * T(L::w[i]) * source;
+        const T cf = c_dot<K>(force);
+        f[K] += source_scale * T(L::w[K]) * ((cf - u_dot_force) * kInvCs2 + cu * cf * kInvCs2 * kInvCs2);
       }
-    }
+    };
+    (relax(std::integral_constant<int, I>{}), ...);
   }
 };
 
