@@ -39,7 +39,8 @@ FluidLattice<L, T>::FluidLattice(const FluidConfig& config)
       cells_(static_cast<long>(config.nx) * config.ny * config.nz),
       has_force_(any_force(config)),
       plans_(config),
-      buffer_(2 * static_cast<std::size_t>(Q) * cells_, T(0)),
+      storage_(Q, cells_),
+      stride_(storage_.stride()),
       pool_(std::make_unique<parallel::ThreadPool>(config.threads)) {
   initialize_uniform(config_.rho0, {0, 0, 0});
 }
@@ -83,9 +84,9 @@ void FluidLattice<L, T>::initialize(const std::function<double(int, int, int)>& 
           const auto& sources = plan.sources[RowPlans<L, T>::part_of(x, config_.nx)];
           for (int i = 0; i < Q; ++i) {
             if (pass == 0) {
-              f[i * cells_ + c] = feq[i];
+              f[i * stride_ + c] = feq[i];
             } else {
-              f[sources[i].dir * cells_ + c + sources[i].delta] = feq[i] - sources[i].correction;
+              f[sources[i].dir * stride_ + c + sources[i].delta] = feq[i] - sources[i].correction;
             }
           }
         }
@@ -109,15 +110,15 @@ void FluidLattice<L, T>::step() {
   const T rho0 = static_cast<T>(config_.rho0);
   const long rows = static_cast<long>(config_.ny) * config_.nz;
   const int nx = config_.nx, ny = config_.ny;
-  const long cells = cells_;
+  const long stride = stride_;
   const auto& plans = plans_;
   if (has_force_) {
     pool_->parallel_for(rows, [&](long begin, long end) {
-      stream_collide_rows<L, T, Collision, true>(plans, src, dst, cells, nx, ny, begin, end, omega, rho0);
+      stream_collide_rows<L, T, Collision, true>(plans, src, dst, stride, nx, ny, begin, end, omega, rho0);
     });
   } else {
     pool_->parallel_for(rows, [&](long begin, long end) {
-      stream_collide_rows<L, T, Collision, false>(plans, src, dst, cells, nx, ny, begin, end, omega, rho0);
+      stream_collide_rows<L, T, Collision, false>(plans, src, dst, stride, nx, ny, begin, end, omega, rho0);
     });
   }
   current_ ^= 1;
@@ -135,7 +136,7 @@ std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
   const auto& sources = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)];
   const long c = cell(x, y, z);
   std::array<T, Q> g;
-  for (int i = 0; i < Q; ++i) g[i] = f[sources[i].dir * cells_ + c + sources[i].delta] + sources[i].correction;
+  for (int i = 0; i < Q; ++i) g[i] = f[sources[i].dir * stride_ + c + sources[i].delta] + sources[i].correction;
   return g;
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "fluid/fluid_config.h"
+#include "fluid/population_storage.h"
 #include "fluid/row_plan.h"
 #include "parallel/thread_pool.h"
 
@@ -37,7 +38,7 @@ class FluidLattice {
   const FluidConfig& config() const { return config_; }
   long cells() const { return cells_; }
   long step_count() const { return steps_; }
-  std::size_t bytes_allocated() const { return 2 * buffer_.size() * sizeof(T); }
+  std::size_t bytes_allocated() const { return storage_.bytes(); }
 
   // Equilibrium of the given density and velocity at every node.
   void initialize(const std::function<double(int, int, int)>& density,
@@ -61,15 +62,16 @@ class FluidLattice {
  private:
   long cell(int x, int y, int z) const { return plans_.cell(x, y, z); }
   std::array<T, L::Q> gather(int x, int y, int z) const;  // shifted populations at time t
-  const T* current() const { return buffer_.data() + (current_ ? Q * cells_ : 0); }
-  T* current() { return buffer_.data() + (current_ ? Q * cells_ : 0); }
-  T* next() { return buffer_.data() + (current_ ? 0 : Q * cells_); }
+  const T* current() const { return storage_.buffer(current_); }
+  T* current() { return storage_.buffer(current_); }
+  T* next() { return storage_.buffer(current_ ^ 1); }
 
   FluidConfig config_;
   long cells_;
   bool has_force_;
   RowPlans<L, T> plans_;
-  std::vector<T> buffer_;  // two buffers of Q * cells populations, back to back
+  PopulationStorage<T> storage_;
+  long stride_;  // elements between successive populations of a buffer
   int current_ = 0;
   long steps_ = 0;
   std::unique_ptr<parallel::ThreadPool> pool_;

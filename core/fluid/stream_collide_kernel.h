@@ -13,7 +13,7 @@
 namespace lbsolid::fluid {
 
 template <class L, class T, class Collision, bool kForce>
-void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long cells, int nx,
+void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long stride, int nx,
                          int ny, long row_begin, long row_end, T omega, T rho0) {
   constexpr int Q = L::Q;
   auto plan_of = [&](long row) -> const RowPlan<T, Q>& {
@@ -26,8 +26,8 @@ void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long
     T corr[Q];
     for (int i = 0; i < Q; ++i) {
       const auto& s = plan.sources[part][i];
-      in[i] = src + s.dir * cells + s.delta;
-      out[i] = dst + i * cells;
+      in[i] = src + s.dir * stride + s.delta;
+      out[i] = dst + i * stride;
       corr[i] = s.correction;
     }
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
