@@ -24,6 +24,13 @@ struct SideBoundary {
   Vec3 traction{0, 0, 0};       // kFreeSlip only: tangential stress on the adjacent fluid layer
 };
 
+enum class StreamingScheme {
+  kInPlace,    // one buffer, AA pattern: half the memory, each cell reads and writes the same slots
+  kTwoBuffer,  // two buffers, pull from one and write the other
+};
+
+const char* streaming_scheme_name(StreamingScheme scheme);
+
 // Sides in the order x_low, x_high, y_low, y_high, z_low, z_high.
 enum Side { kXLow = 0, kXHigh, kYLow, kYHigh, kZLow, kZHigh };
 const char* side_name(int side);
@@ -35,6 +42,7 @@ struct FluidConfig {
   std::array<SideBoundary, 6> sides{};
   Vec3 body_force{0, 0, 0};  // force per node (momentum added per node per step)
   int threads = 1;           // worker threads for the fused kernel
+  StreamingScheme streaming = StreamingScheme::kInPlace;
 };
 
 // Every problem with `config` for a lattice of dimension `dimension`, each as

@@ -2,8 +2,10 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "fluid/bgk_collision.h"
+#include "fluid/in_place_kernel.h"
 #include "fluid/stream_collide_kernel.h"
 #include "lattice/d2q7.h"
 #include "lattice/d2q9.h"
@@ -39,10 +41,37 @@ FluidLattice<L, T>::FluidLattice(const FluidConfig& config)
       cells_(static_cast<long>(config.nx) * config.ny * config.nz),
       has_force_(any_force(config)),
       plans_(config),
-      storage_(Q, cells_),
+      storage_(config.streaming == StreamingScheme::kInPlace ? 1 : 2, Q, cells_),
       stride_(storage_.stride()),
       pool_(std::make_unique<parallel::ThreadPool>(config.threads)) {
+  if (in_place()) check_in_place_slots();
   initialize_uniform(config_.rho0, {0, 0, 0});
+}
+
+// In place, each cell writes the slots it read; that is race-free only if no two (node, direction)
+// pairs pull from one slot. Every wall rule here is an involution, so this holds; the check makes
+// sure a future rule or an odd corner cannot silently break it.
+template <class L, class T>
+void FluidLattice<L, T>::check_in_place_slots() const {
+  constexpr auto opp = lattice::opposite_table<L>();
+  std::vector<bool> taken(static_cast<std::size_t>(Q) * cells_, false);
+  for (int z = 0; z < config_.nz; ++z)
+    for (int y = 0; y < config_.ny; ++y) {
+      const auto& plan = plans_.for_row(y, z);
+      for (int x = 0; x < config_.nx; ++x) {
+        const auto& sources = plan.sources[RowPlans<L, T>::part_of(x, config_.nx)];
+        for (int k = 0; k < Q; ++k) {
+          const std::size_t key = static_cast<std::size_t>(opp[sources[k].dir]) * cells_ + cell(x, y, z) + sources[k].delta;
+          if (taken[key]) {
+            throw std::invalid_argument(
+                "streaming: in-place streaming cannot express this combination of walls (two "
+                "populations pull from one slot at node (" + std::to_string(x) + ", " + std::to_string(y) +
+                ", " + std::to_string(z) + ")); choose two-buffer streaming");
+          }
+          taken[key] = true;
+        }
+      }
+    }
 }
 
 template <class L, class T>
@@ -59,7 +88,8 @@ template <class L, class T>
 void FluidLattice<L, T>::initialize(const std::function<double(int, int, int)>& density,
                                     const std::function<Vec3(int, int, int)>& velocity) {
   using Collision = BgkCollision<L, T>;
-  T* f = current();
+  pulled_ = false;  // in place: the state is written as streamed populations
+  T* f = storage_.buffer(in_place() ? 0 : current_);
   const T rho0 = static_cast<T>(config_.rho0);
   auto equilibrium_at = [&](int x, int y, int z, std::array<T, Q>& feq) {
     const T rho = static_cast<T>(density(x, y, z));
@@ -72,21 +102,20 @@ void FluidLattice<L, T>::initialize(const std::function<double(int, int, int)>& 
     for (int i = 0; i < Q; ++i) feq[i] = Collision::equilibrium(i, rho, rho0, u, usq);
   };
   std::array<T, Q> feq;
-  // First the local equilibrium everywhere (covers populations no node pulls), then each pulled
-  // population at its source, so that gathering at time 0 returns the equilibrium exactly.
+  // First the local equilibrium everywhere (covers populations no node pulls), then each population
+  // where the next step will look for it, so that gathering at time 0 returns the equilibrium.
   for (int pass = 0; pass < 2; ++pass) {
     for (int z = 0; z < config_.nz; ++z) {
       for (int y = 0; y < config_.ny; ++y) {
-        const auto& plan = plans_.for_row(y, z);
         for (int x = 0; x < config_.nx; ++x) {
           equilibrium_at(x, y, z, feq);
           const long c = cell(x, y, z);
-          const auto& sources = plan.sources[RowPlans<L, T>::part_of(x, config_.nx)];
           for (int i = 0; i < Q; ++i) {
             if (pass == 0) {
               f[i * stride_ + c] = feq[i];
             } else {
-              f[sources[i].dir * stride_ + c + sources[i].delta] = feq[i] - sources[i].correction;
+              const Slot s = slot(i, x, y, z);
+              f[s.index] = feq[i] - s.correction;
             }
           }
         }
@@ -104,24 +133,42 @@ void FluidLattice<L, T>::initialize_uniform(double density, const Vec3& velocity
 template <class L, class T>
 void FluidLattice<L, T>::step() {
   using Collision = BgkCollision<L, T>;
-  const T* src = current();
-  T* dst = next();
   const T omega = static_cast<T>(config_.omega);
   const T rho0 = static_cast<T>(config_.rho0);
   const long rows = static_cast<long>(config_.ny) * config_.nz;
   const int nx = config_.nx, ny = config_.ny;
   const long stride = stride_;
   const auto& plans = plans_;
+  // One kernel per (scheme, phase, force) combination; each row range goes to one worker.
+  auto launch = [&]<bool kForce>(std::bool_constant<kForce>) {
+    if (!in_place()) {
+      const T* src = storage_.buffer(current_);
+      T* dst = storage_.buffer(current_ ^ 1);
+      pool_->parallel_for(rows, [&](long begin, long end) {
+        stream_collide_rows<L, T, Collision, kForce>(plans, src, dst, stride, nx, ny, begin, end, omega, rho0);
+      });
+    } else if (pulled_) {
+      T* f = storage_.buffer(0);
+      pool_->parallel_for(rows, [&](long begin, long end) {
+        stream_collide_in_place_rows<L, T, Collision, kForce>(plans, f, stride, nx, ny, begin, end, omega, rho0);
+      });
+    } else {
+      T* f = storage_.buffer(0);
+      pool_->parallel_for(rows, [&](long begin, long end) {
+        collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, ny, begin, end, omega, rho0);
+      });
+    }
+  };
   if (has_force_) {
-    pool_->parallel_for(rows, [&](long begin, long end) {
-      stream_collide_rows<L, T, Collision, true>(plans, src, dst, stride, nx, ny, begin, end, omega, rho0);
-    });
+    launch(std::true_type{});
   } else {
-    pool_->parallel_for(rows, [&](long begin, long end) {
-      stream_collide_rows<L, T, Collision, false>(plans, src, dst, stride, nx, ny, begin, end, omega, rho0);
-    });
+    launch(std::false_type{});
   }
-  current_ ^= 1;
+  if (in_place()) {
+    pulled_ = !pulled_;
+  } else {
+    current_ ^= 1;
+  }
   ++steps_;
 }
 
@@ -131,12 +178,23 @@ void FluidLattice<L, T>::run(long steps) {
 }
 
 template <class L, class T>
-std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
-  const T* f = current();
-  const auto& sources = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)];
+typename FluidLattice<L, T>::Slot FluidLattice<L, T>::slot(int i, int x, int y, int z) const {
   const long c = cell(x, y, z);
+  if (in_place() && !pulled_) return {i * stride_ + c, T(0)};
+  const auto& s = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)][i];
+  // Two buffers keep f*_j at slot j of the source node; in place the even step left it reversed.
+  const int stored_as = in_place() ? lattice::opposite<L>(s.dir) : s.dir;
+  return {stored_as * stride_ + c + s.delta, s.correction};
+}
+
+template <class L, class T>
+std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
+  const T* f = storage_.buffer(in_place() ? 0 : current_);
   std::array<T, Q> g;
-  for (int i = 0; i < Q; ++i) g[i] = f[sources[i].dir * stride_ + c + sources[i].delta] + sources[i].correction;
+  for (int i = 0; i < Q; ++i) {
+    const Slot s = slot(i, x, y, z);
+    g[i] = f[s.index] + s.correction;
+  }
   return g;
 }
 

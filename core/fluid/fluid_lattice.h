@@ -1,16 +1,16 @@
 #pragma once
 // A lattice-Boltzmann fluid on one lattice (D2Q9, D2Q7, D3Q19) in one precision (float, double):
-// structure-of-arrays populations in two buffers, advanced by the fused pull kernel. Density and
-// velocity are computed only on request.
+// structure-of-arrays populations advanced by fused stream-collide kernels, either in place on one
+// buffer (default) or between two buffers. Density and velocity are computed only on request.
 //
-// State convention: after step t the buffer holds post-collision populations; the fluid "at time
-// t" is what the next step pulls, so every observer below gathers through the same boundary rules
-// as the kernel. initialize() sets that gathered state to the equilibrium of the given fields.
+// State convention: the fluid "at time t" is what the next step pulls (through the same boundary
+// rules as the kernel), so every observer below gathers exactly what the kernel would see, and
+// both streaming schemes give bit-identical results. initialize() sets that gathered state to the
+// equilibrium of the given fields.
 #include <array>
 #include <cstddef>
 #include <functional>
 #include <memory>
-#include <vector>
 
 #include "fluid/fluid_config.h"
 #include "fluid/population_storage.h"
@@ -60,19 +60,25 @@ class FluidLattice {
   static Vec3 position(int x, int y, int z = 0);
 
  private:
+  bool in_place() const { return config_.streaming == StreamingScheme::kInPlace; }
   long cell(int x, int y, int z) const { return plans_.cell(x, y, z); }
+  // Where population i of node (x, y, z) at time t is stored, and what to add to it.
+  struct Slot {
+    long index;
+    T correction;
+  };
+  Slot slot(int i, int x, int y, int z) const;
   std::array<T, L::Q> gather(int x, int y, int z) const;  // shifted populations at time t
-  const T* current() const { return storage_.buffer(current_); }
-  T* current() { return storage_.buffer(current_); }
-  T* next() { return storage_.buffer(current_ ^ 1); }
+  void check_in_place_slots() const;
 
   FluidConfig config_;
   long cells_;
   bool has_force_;
   RowPlans<L, T> plans_;
   PopulationStorage<T> storage_;
-  long stride_;  // elements between successive populations of a buffer
-  int current_ = 0;
+  long stride_;           // elements between successive populations of a buffer
+  int current_ = 0;       // two-buffer: the buffer holding time t
+  bool pulled_ = true;    // in-place: true when the next step is an odd (pulling) step
   long steps_ = 0;
   std::unique_ptr<parallel::ThreadPool> pool_;
 };

@@ -1,5 +1,5 @@
 #pragma once
-// Two structure-of-arrays buffers of Q populations per cell, 64-byte aligned, with each
+// One or two structure-of-arrays buffers of Q populations per cell, 64-byte aligned, with each
 // population's array padded so that successive arrays start on different cache sets.
 //
 // Without the padding, a cell count times sizeof(real) that is a multiple of a large power of two
@@ -15,8 +15,9 @@ namespace lbsolid::fluid {
 template <class T>
 class PopulationStorage {
  public:
-  PopulationStorage(int q, long cells) : q_(q), stride_(padded_stride(cells)) {
-    const std::size_t bytes = 2 * static_cast<std::size_t>(q_) * stride_ * sizeof(T);
+  PopulationStorage(int buffers, int q, long cells)
+      : buffers_(buffers), q_(q), stride_(padded_stride(cells)) {
+    const std::size_t bytes = this->bytes();
     data_.reset(static_cast<T*>(std::aligned_alloc(kAlign, bytes)));
     if (!data_) throw std::bad_alloc();
     for (std::size_t k = 0; k < bytes / sizeof(T); ++k) data_.get()[k] = T(0);
@@ -24,7 +25,7 @@ class PopulationStorage {
 
   // Distance in elements between population i and i+1 of one buffer.
   long stride() const { return stride_; }
-  std::size_t bytes() const { return 2 * static_cast<std::size_t>(q_) * stride_ * sizeof(T); }
+  std::size_t bytes() const { return static_cast<std::size_t>(buffers_) * q_ * stride_ * sizeof(T); }
   T* buffer(int which) { return data_.get() + static_cast<std::size_t>(which) * q_ * stride_; }
   const T* buffer(int which) const { return data_.get() + static_cast<std::size_t>(which) * q_ * stride_; }
 
@@ -40,6 +41,7 @@ class PopulationStorage {
   struct Free {
     void operator()(T* p) const { std::free(p); }
   };
+  int buffers_;
   int q_;
   long stride_;
   std::unique_ptr<T, Free> data_;

@@ -22,7 +22,7 @@ namespace lbsolid::bench {
 namespace {
 
 struct Row {
-  std::string lattice, precision;
+  std::string lattice, precision, streaming;
   int threads;
   long cells;
   double mlups, bytes_per_update, bandwidth, roofline;
@@ -30,7 +30,7 @@ struct Row {
 
 // Grid with at least `min_cells` cells: square in 2D, cubic in 3D.
 template <class L>
-fluid::FluidConfig big_grid(long min_cells, int threads) {
+fluid::FluidConfig big_grid(long min_cells, int threads, fluid::StreamingScheme streaming) {
   fluid::FluidConfig c;
   if (L::D == 3) {
     const int n = static_cast<int>(std::ceil(std::cbrt(static_cast<double>(min_cells))));
@@ -42,15 +42,20 @@ fluid::FluidConfig big_grid(long min_cells, int threads) {
   }
   c.omega = 1.0;
   c.threads = threads;
+  c.streaming = streaming;
   return c;
 }
 
+// Bytes per cell update are counted as STREAM counts a copy: Q populations read and Q written,
+// whichever the scheme (in place, the written lines are the ones just read).
 template <class L, class T>
-Row measure(std::size_t working_set, int threads, double bandwidth, double min_seconds) {
-  // Two buffers of Q populations per cell: choose the cell count that fills `working_set`.
+Row measure(std::size_t working_set, int threads, fluid::StreamingScheme streaming, double bandwidth,
+            double min_seconds) {
   const double bytes_per_update = 2.0 * L::Q * sizeof(T);
-  const long cells = static_cast<long>(working_set / bytes_per_update);
-  fluid::FluidLattice<L, T> fluid(big_grid<L>(cells, threads));
+  // Each scheme's own storage (one buffer or two) fills the working set.
+  const int buffers = streaming == fluid::StreamingScheme::kInPlace ? 1 : 2;
+  const long cells = static_cast<long>(working_set / (buffers * L::Q * sizeof(T)));
+  fluid::FluidLattice<L, T> fluid(big_grid<L>(cells, threads, streaming));
   fluid.initialize([](int, int, int) { return 1.0; },
                    [](int x, int y, int) { return fluid::Vec3{0.01 * std::sin(0.1 * y), 0.01 * std::cos(0.1 * x), 0}; });
   fluid.run(2);  // warm up: page in both buffers
@@ -69,7 +74,9 @@ Row measure(std::size_t working_set, int threads, double bandwidth, double min_s
     }
     mlups = std::max(mlups, static_cast<double>(fluid.cells()) * steps / seconds / 1e6);
   }
-  return {L::name, sizeof(T) == 8 ? "double" : "float", threads, fluid.cells(), mlups, bytes_per_update,
+  return {L::name, sizeof(T) == 8 ? "double" : "float",
+          streaming == fluid::StreamingScheme::kInPlace ? "in-place" : "two-buffer", threads, fluid.cells(), mlups,
+          bytes_per_update,
           bandwidth, bandwidth / bytes_per_update / 1e6};
 }
 
@@ -99,45 +106,54 @@ int main(int argc, char** argv) {
 
   std::vector<Row> rows;
   for (int threads : thread_counts) {
-    const int repeats = quick ? 8 : 20;
-    const double before = copy_bandwidth(working_set / 2, threads, repeats);
-    const std::size_t first = rows.size();
-    rows.push_back(measure<lattice::D2Q9, double>(working_set, threads, before, min_seconds));
-    rows.push_back(measure<lattice::D2Q9, float>(working_set, threads, before, min_seconds));
-    rows.push_back(measure<lattice::D2Q7, double>(working_set, threads, before, min_seconds));
-    rows.push_back(measure<lattice::D2Q7, float>(working_set, threads, before, min_seconds));
-    rows.push_back(measure<lattice::D3Q19, double>(working_set, threads, before, min_seconds));
-    rows.push_back(measure<lattice::D3Q19, float>(working_set, threads, before, min_seconds));
-    // The bandwidth is the best copy seen before or after the kernels, so a disturbed copy
-    // cannot flatter the kernels' fraction of it.
-    const double bandwidth = std::max(before, copy_bandwidth(working_set / 2, threads, repeats));
-    for (std::size_t k = first; k < rows.size(); ++k) {
-      rows[k].bandwidth = bandwidth;
-      rows[k].roofline = bandwidth / rows[k].bytes_per_update / 1e6;
+    for (auto scheme : {fluid::StreamingScheme::kInPlace, fluid::StreamingScheme::kTwoBuffer}) {
+      // Each scheme is held against the STREAM-style loop with its access pattern: in place
+      // against an update of one array, two buffers against a copy between two.
+      const int repeats = quick ? 8 : 20;
+      auto bandwidth_now = [&] {
+        return scheme == fluid::StreamingScheme::kInPlace ? update_bandwidth(working_set, threads, repeats)
+                                                          : copy_bandwidth(working_set / 2, threads, repeats);
+      };
+      const double before = bandwidth_now();
+      const std::size_t first = rows.size();
+      rows.push_back(measure<lattice::D2Q9, double>(working_set, threads, scheme, before, min_seconds));
+      rows.push_back(measure<lattice::D2Q9, float>(working_set, threads, scheme, before, min_seconds));
+      rows.push_back(measure<lattice::D2Q7, double>(working_set, threads, scheme, before, min_seconds));
+      rows.push_back(measure<lattice::D2Q7, float>(working_set, threads, scheme, before, min_seconds));
+      rows.push_back(measure<lattice::D3Q19, double>(working_set, threads, scheme, before, min_seconds));
+      rows.push_back(measure<lattice::D3Q19, float>(working_set, threads, scheme, before, min_seconds));
+      // The bandwidth is the best seen before or after the kernels, so a disturbed measurement
+      // cannot flatter the kernels' fraction of it.
+      const double bandwidth = std::max(before, bandwidth_now());
+      for (std::size_t k = first; k < rows.size(); ++k) {
+        rows[k].bandwidth = bandwidth;
+        rows[k].roofline = bandwidth / rows[k].bytes_per_update / 1e6;
+      }
     }
   }
 
   if (json) {
-    std::printf("{\n  \"last_level_cache_bytes\": %zu,\n  \"streaming\": \"two-buffer pull (A-B)\",\n  \"results\": [\n", llc);
+    std::printf("{\n  \"last_level_cache_bytes\": %zu,\n  \"working_set_bytes\": %zu,\n  \"results\": [\n", llc,
+                working_set);
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const Row& r = rows[k];
-      std::printf("    {\"lattice\": \"%s\", \"precision\": \"%s\", \"threads\": %d, \"cells\": %ld, "
-                  "\"mlups\": %.2f, \"bytes_per_update\": %.0f, \"copy_bandwidth_gbs\": %.2f, "
+      std::printf("    {\"lattice\": \"%s\", \"precision\": \"%s\", \"streaming\": \"%s\", \"threads\": %d, \"cells\": %ld, "
+                  "\"mlups\": %.2f, \"bytes_per_update\": %.0f, \"stream_bandwidth_gbs\": %.2f, "
                   "\"roofline_mlups\": %.2f, \"fraction_of_roofline\": %.3f}%s\n",
-                  r.lattice.c_str(), r.precision.c_str(), r.threads, r.cells, r.mlups, r.bytes_per_update,
+                  r.lattice.c_str(), r.precision.c_str(), r.streaming.c_str(), r.threads, r.cells, r.mlups, r.bytes_per_update,
                   r.bandwidth / 1e9, r.roofline, r.mlups / r.roofline, k + 1 < rows.size() ? "," : "");
     }
     std::printf("  ]\n}\n");
     return 0;
   }
-  std::printf("lbsolid-bench: fused BGK stream-collide, two-buffer pull streaming, periodic box\n");
+  std::printf("lbsolid-bench: fused BGK stream-collide, periodic box, in-place (AA) and two-buffer streaming\n");
   std::printf("last-level cache %.0f MiB; working set %.0f MiB per run\n\n", llc / 1048576.0,
               working_set / 1048576.0);
-  std::printf("%-6s %-7s %7s %10s %9s %11s %12s %14s %9s\n", "lattice", "prec", "threads", "cells", "MLUPS",
-              "bytes/cell", "copy GB/s", "roofline MLUPS", "fraction");
+  std::printf("%-6s %-7s %-10s %7s %10s %9s %11s %12s %14s %9s\n", "lattice", "prec", "streaming", "threads", "cells", "MLUPS",
+              "bytes/cell", "stream GB/s", "roofline MLUPS", "fraction");
   for (const Row& r : rows) {
-    std::printf("%-6s %-7s %7d %10ld %9.1f %11.0f %12.1f %14.1f %8.0f%%\n", r.lattice.c_str(),
-                r.precision.c_str(), r.threads, r.cells, r.mlups, r.bytes_per_update, r.bandwidth / 1e9,
+    std::printf("%-6s %-7s %-10s %7d %10ld %9.1f %11.0f %12.1f %14.1f %8.0f%%\n", r.lattice.c_str(),
+                r.precision.c_str(), r.streaming.c_str(), r.threads, r.cells, r.mlups, r.bytes_per_update, r.bandwidth / 1e9,
                 r.roofline, 100.0 * r.mlups / r.roofline);
   }
   return 0;

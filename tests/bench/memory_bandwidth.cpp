@@ -30,21 +30,45 @@ namespace {
 void copy(const double* __restrict a, double* __restrict b, long begin, long end) {
   for (long i = begin; i < end; ++i) b[i] = a[i];
 }
+void update(double* a, double s, long begin, long end) {
+  for (long i = begin; i < end; ++i) a[i] = s * a[i];
+}
+
+// Best time of `repeats` calls of `pass` (after one untimed call that pages the memory in).
+template <class Pass>
+double best_seconds(int repeats, Pass pass) {
+  pass();
+  double best = 1e30;
+  for (int r = 0; r < repeats; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    pass();
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  return best;
+}
 }  // namespace
 
 double copy_bandwidth(std::size_t bytes_per_array, int threads, int repeats) {
   const long n = static_cast<long>(bytes_per_array / sizeof(double));
   std::vector<double> a(n, 1.0), b(n, 0.0);
   parallel::ThreadPool pool(threads);
-  // First touch by the threads that will copy, so pages sit near them.
-  pool.parallel_for(n, [&](long begin, long end) { copy(a.data(), b.data(), begin, end); });
-  double best = 1e30;
-  for (int r = 0; r < repeats; ++r) {
-    const auto start = std::chrono::steady_clock::now();
+  const double seconds = best_seconds(repeats, [&] {
     pool.parallel_for(n, [&](long begin, long end) { copy(a.data(), b.data(), begin, end); });
-    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  }
-  return 2.0 * sizeof(double) * static_cast<double>(n) / best;
+  });
+  return 2.0 * sizeof(double) * static_cast<double>(n) / seconds;
+}
+
+double update_bandwidth(std::size_t bytes, int threads, int repeats) {
+  const long n = static_cast<long>(bytes / sizeof(double));
+  std::vector<double> a(n, 1.0);
+  parallel::ThreadPool pool(threads);
+  // Alternating factors keep the values bounded whatever the number of passes.
+  double factor = 0.5;
+  const double seconds = best_seconds(repeats, [&] {
+    factor = 1.0 / factor;
+    pool.parallel_for(n, [&](long begin, long end) { update(a.data(), factor, begin, end); });
+  });
+  return 2.0 * sizeof(double) * static_cast<double>(n) / seconds;
 }
 
 }  // namespace lbsolid::bench
