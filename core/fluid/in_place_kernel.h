@@ -11,6 +11,7 @@
 //              even step finds the population arriving downstream. The wall rules are involutions,
 //              so the slots a cell reads are exactly the slots it writes and cells never collide
 //              (FluidLattice checks this once per configuration).
+#include "fluid/cell_update.h"
 #include "fluid/row_plan.h"
 #include "lattice/lattice_traits.h"
 
@@ -30,17 +31,15 @@ void collide_local_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx, 
     long last = first;
     while (last + 1 < row_end && &plan_of(last + 1) == &plan) ++last;
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
-    T* slot[Q];
-    for (int i = 0; i < Q; ++i) slot[i] = f + i * stride;
-#pragma GCC ivdep
-    for (long c = first * nx; c < (last + 1) * nx; ++c) {
-      T g[Q];
-#pragma GCC unroll 32
-      for (int i = 0; i < Q; ++i) g[i] = slot[i][c];
-      Collision::template collide<kForce>(g, omega, rho0, force);
-#pragma GCC unroll 32
-      for (int i = 0; i < Q; ++i) slot[opp[i]][c] = g[i];
+    const T* in[Q];
+    T* out[Q];
+    const T no_corr[Q] = {};
+    for (int i = 0; i < Q; ++i) {
+      in[i] = f + i * stride;
+      out[i] = f + opp[i] * stride;
     }
+    update_cells<L, T, Collision, kForce, false>(in, no_corr, out, no_corr, force, omega, rho0,
+                                                 first * nx, (last + 1) * nx);
     first = last + 1;
   }
 }
@@ -54,22 +53,23 @@ void stream_collide_in_place_rows(const RowPlans<L, T>& plans, T* f, long stride
     const auto& plan = plans.for_row(static_cast<int>(row % ny), static_cast<int>(row / ny));
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
     auto sweep = [&](int part, long begin, long end) {
+      const T* in[Q];
       T* slot[Q];
       T corr[Q];
       for (int k = 0; k < Q; ++k) {
         const auto& s = plan.sources[part][k];
         slot[k] = f + opp[s.dir] * stride + s.delta;
+        in[k] = slot[k];
         corr[k] = s.correction;
       }
-#pragma GCC ivdep
-      for (long c = begin; c < end; ++c) {
-        T g[Q];
-#pragma GCC unroll 32
-        for (int k = 0; k < Q; ++k) g[k] = slot[k][c] + corr[k];
-        Collision::template collide<kForce>(g, omega, rho0, force);
-#pragma GCC unroll 32
-        for (int k = 0; k < Q; ++k) slot[opp[k]][c] = g[k] + corr[opp[k]];
+      // Population k goes back into the slot read for opp(k), with that entry's correction.
+      T* out[Q];
+      T out_corr[Q];
+      for (int k = 0; k < Q; ++k) {
+        out[k] = slot[opp[k]];
+        out_corr[k] = corr[opp[k]];
       }
+      update_cells<L, T, Collision, kForce, true>(in, corr, out, out_corr, force, omega, rho0, begin, end);
     };
     const long row_start = row * nx;
     sweep(0, row_start, row_start + 1);

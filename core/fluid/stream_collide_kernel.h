@@ -8,6 +8,7 @@
 // it). The first and last cell of each row, whose sources wrap or hit a wall, are then computed
 // again with their own plan, overwriting what the long sweep wrote there. Every read of the sweep
 // stays inside the buffer: its two ends are interior cells, whose sources are real cells.
+#include "fluid/cell_update.h"
 #include "fluid/row_plan.h"
 
 namespace lbsolid::fluid {
@@ -24,6 +25,7 @@ void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long
     const T* in[Q];
     T* out[Q];
     T corr[Q];
+    const T no_corr[Q] = {};
     for (int i = 0; i < Q; ++i) {
       const auto& s = plan.sources[part][i];
       in[i] = src + s.dir * stride + s.delta;
@@ -31,15 +33,7 @@ void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long
       corr[i] = s.correction;
     }
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
-#pragma GCC ivdep
-    for (long c = begin; c < end; ++c) {
-      T f[Q];
-#pragma GCC unroll 32
-      for (int i = 0; i < Q; ++i) f[i] = in[i][c] + corr[i];
-      Collision::template collide<kForce>(f, omega, rho0, force);
-#pragma GCC unroll 32
-      for (int i = 0; i < Q; ++i) out[i][c] = f[i];
-    }
+    update_cells<L, T, Collision, kForce, true>(in, corr, out, no_corr, force, omega, rho0, begin, end);
   };
   for (long first = row_begin; first < row_end;) {
     const RowPlan<T, Q>& plan = plan_of(first);
