@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <stdexcept>
 
 #include "fluid/fluid_test_support.h"
 #include "lattice/lattice_traits.h"
@@ -82,14 +83,17 @@ TYPED_TEST(BoundaryTest, ThreadedStepEqualsSingleThreadedStepBitForBit) {
   c.sides[fluid::kYHigh].wall_velocity = {0.04, 0, 0};
   c.body_force = {1e-5, 0, 0};
   FluidLattice<L, double> serial(c);
-  c.threads = 3;
   FluidLattice<L, double> threaded(c);
+  threaded.set_threads(3);
+  EXPECT_THROW(threaded.set_threads(0), std::invalid_argument);
+  EXPECT_EQ(threaded.config().threads, 3);
   serial.run(50);
   threaded.run(50);
   for (int z = 0; z < c.nz; ++z)
     for (int y = 0; y < c.ny; ++y)
       for (int x = 0; x < c.nx; ++x) {
         EXPECT_EQ(serial.populations(x, y, z), threaded.populations(x, y, z));
+        EXPECT_EQ(serial.density(x, y, z), threaded.density(x, y, z));
       }
 }
 
