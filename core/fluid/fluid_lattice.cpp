@@ -2,7 +2,6 @@
 
 #include <stdexcept>
 #include <string>
-#include <vector>
 
 #include "fluid/bgk_collision.h"
 #include "fluid/in_place_kernel.h"
@@ -48,30 +47,35 @@ FluidLattice<L, T>::FluidLattice(const FluidConfig& config)
   initialize_uniform(config_.rho0, {0, 0, 0});
 }
 
-// In place, each cell writes the slots it read; that is race-free only if no two (node, direction)
-// pairs pull from one slot. Every wall rule here is an involution, so this holds; the check makes
-// sure a future rule or an odd corner cannot silently break it.
+// In place, the odd step writes population k of node y into the slot it read for opp(k), i.e.
+// where f*_j' of node s' was stored, (j', s') being the source of opp(k) at y. That is right only
+// if the rules are involutions: the source of opp(j') at s' must be k at y, with the same wall
+// correction. Then every slot has one reader and the next step finds each population where it
+// looks. Every rule here is such an involution; this check makes sure no corner breaks it.
 template <class L, class T>
 void FluidLattice<L, T>::check_in_place_slots() const {
   constexpr auto opp = lattice::opposite_table<L>();
-  std::vector<bool> taken(static_cast<std::size_t>(Q) * cells_, false);
-  for (int z = 0; z < config_.nz; ++z)
-    for (int y = 0; y < config_.ny; ++y) {
-      const auto& plan = plans_.for_row(y, z);
-      for (int x = 0; x < config_.nx; ++x) {
-        const auto& sources = plan.sources[RowPlans<L, T>::part_of(x, config_.nx)];
-        for (int k = 0; k < Q; ++k) {
-          const std::size_t key = static_cast<std::size_t>(opp[sources[k].dir]) * cells_ + cell(x, y, z) + sources[k].delta;
-          if (taken[key]) {
-            throw std::invalid_argument(
-                "streaming: in-place streaming cannot express this combination of walls (two "
-                "populations pull from one slot at node (" + std::to_string(x) + ", " + std::to_string(y) +
-                ", " + std::to_string(z) + ")); choose two-buffer streaming");
-          }
-          taken[key] = true;
-        }
+  const int nx = config_.nx, ny = config_.ny;
+  auto source = [&](int k, long c) -> const PullSource<T, Q>& {
+    const int x = static_cast<int>(c % nx);
+    const long row = c / nx;
+    return plans_.for_row(static_cast<int>(row % ny), static_cast<int>(row / ny))
+        .sources[RowPlans<L, T>::part_of(x, nx)][k];
+  };
+  for (long c = 0; c < cells_; ++c) {
+    for (int k = 0; k < Q; ++k) {
+      const auto& forward = source(opp[k], c);
+      const long s = c + forward.delta;
+      const auto& back = source(opp[forward.dir], s);
+      if (back.dir != k || s + back.delta != c || back.correction != forward.correction) {
+        const long row = c / nx;
+        throw std::invalid_argument(
+            "streaming: in-place streaming cannot express this combination of walls at node (" +
+            std::to_string(c % nx) + ", " + std::to_string(row % ny) + ", " + std::to_string(row / ny) +
+            "); choose two-buffer streaming");
       }
     }
+  }
 }
 
 template <class L, class T>
