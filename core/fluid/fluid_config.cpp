@@ -63,11 +63,20 @@ std::vector<std::string> validate_fluid_config(const FluidConfig& config, int di
   if (config.threads < 1) {
     error("threads", "must be at least 1, got " + std::to_string(config.threads));
   }
+  if (config.streaming != StreamingScheme::kInPlace && config.streaming != StreamingScheme::kTwoBuffer) {
+    error("streaming", "unknown scheme " + std::to_string(static_cast<int>(config.streaming)) +
+                           "; use in-place or two-buffer");
+  }
   const int axes = dimension;
   for (int side = 0; side < 6; ++side) {
     const SideBoundary& b = config.sides[side];
     const int axis = side / 2;
     const std::string field = std::string("sides.") + side_name(side);
+    if (b.kind != WallKind::kPeriodic && b.kind != WallKind::kBounceBack &&
+        b.kind != WallKind::kMovingWall && b.kind != WallKind::kFreeSlip) {
+      error(field, "unknown wall kind " + std::to_string(static_cast<int>(b.kind)));
+      continue;
+    }
     if (axis >= axes) {
       if (b.kind != WallKind::kPeriodic) error(field, "a 2D lattice has no z walls; use periodic");
       continue;

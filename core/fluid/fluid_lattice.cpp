@@ -57,10 +57,7 @@ void FluidLattice<L, T>::check_in_place_slots() const {
   constexpr auto opp = lattice::opposite_table<L>();
   const int nx = config_.nx, ny = config_.ny;
   auto source = [&](int k, long c) -> const PullSource<T, Q>& {
-    const int x = static_cast<int>(c % nx);
-    const long row = c / nx;
-    return plans_.for_row(static_cast<int>(row % ny), static_cast<int>(row / ny))
-        .sources[RowPlans<L, T>::part_of(x, nx)][k];
+    return plans_.for_row(c / nx).sources[RowPlans<L, T>::part_of(static_cast<int>(c % nx), nx)][k];
   };
   for (long c = 0; c < cells_; ++c) {
     for (int k = 0; k < Q; ++k) {
@@ -140,7 +137,7 @@ void FluidLattice<L, T>::step() {
   const T omega = static_cast<T>(config_.omega);
   const T rho0 = static_cast<T>(config_.rho0);
   const long rows = static_cast<long>(config_.ny) * config_.nz;
-  const int nx = config_.nx, ny = config_.ny;
+  const int nx = config_.nx;
   const long stride = stride_;
   const auto& plans = plans_;
   // One kernel per (scheme, phase, force) combination; each row range goes to one worker.
@@ -149,17 +146,17 @@ void FluidLattice<L, T>::step() {
       const T* src = storage_.buffer(current_);
       T* dst = storage_.buffer(current_ ^ 1);
       pool_->parallel_for(rows, [&](long begin, long end) {
-        stream_collide_rows<L, T, Collision, kForce>(plans, src, dst, stride, nx, ny, begin, end, omega, rho0);
+        stream_collide_rows<L, T, Collision, kForce>(plans, src, dst, stride, nx, begin, end, omega, rho0);
       });
     } else if (pulled_) {
       T* f = storage_.buffer(0);
       pool_->parallel_for(rows, [&](long begin, long end) {
-        stream_collide_in_place_rows<L, T, Collision, kForce>(plans, f, stride, nx, ny, begin, end, omega, rho0);
+        stream_collide_in_place_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, omega, rho0);
       });
     } else {
       T* f = storage_.buffer(0);
       pool_->parallel_for(rows, [&](long begin, long end) {
-        collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, ny, begin, end, omega, rho0);
+        collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, omega, rho0);
       });
     }
   };

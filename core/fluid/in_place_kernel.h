@@ -18,18 +18,14 @@
 namespace lbsolid::fluid {
 
 template <class L, class T, class Collision, bool kForce>
-void collide_local_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx, int ny,
+void collide_local_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
                         long row_begin, long row_end, T omega, T rho0) {
   constexpr int Q = L::Q;
   constexpr auto opp = lattice::opposite_table<L>();
-  auto plan_of = [&](long row) -> const RowPlan<T, Q>& {
-    return plans.for_row(static_cast<int>(row % ny), static_cast<int>(row / ny));
-  };
   for (long first = row_begin; first < row_end;) {
     // Rows with one plan share their force: sweep them as one run of cells.
-    const RowPlan<T, Q>& plan = plan_of(first);
-    long last = first;
-    while (last + 1 < row_end && &plan_of(last + 1) == &plan) ++last;
+    const RowPlan<T, Q>& plan = plans.for_row(first);
+    const long last = plans.last_row_sharing_plan(first, row_end);
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
     const T* in[Q];
     T* out[Q];
@@ -45,12 +41,12 @@ void collide_local_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx, 
 }
 
 template <class L, class T, class Collision, bool kForce>
-void stream_collide_in_place_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx, int ny,
+void stream_collide_in_place_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
                                   long row_begin, long row_end, T omega, T rho0) {
   constexpr int Q = L::Q;
   constexpr auto opp = lattice::opposite_table<L>();
   for (long row = row_begin; row < row_end; ++row) {
-    const auto& plan = plans.for_row(static_cast<int>(row % ny), static_cast<int>(row / ny));
+    const auto& plan = plans.for_row(row);
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
     auto sweep = [&](int part, long begin, long end) {
       const T* in[Q];

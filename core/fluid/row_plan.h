@@ -61,6 +61,17 @@ class RowPlans {
   }
 
   const RowPlan<T, Q>& for_row(int y, int z) const { return plans_[key(y, z)]; }
+  // Rows are numbered as cells are (x fastest): row = y + ny z.
+  const RowPlan<T, Q>& for_row(long row) const {
+    return for_row(static_cast<int>(row % ny_), static_cast<int>(row / ny_));
+  }
+  // The last row of the run that starts at `first`, ends before `end` and shares first's plan.
+  long last_row_sharing_plan(long first, long end) const {
+    const RowPlan<T, Q>* plan = &for_row(first);
+    long last = first;
+    while (last + 1 < end && &for_row(last + 1) == plan) ++last;
+    return last;
+  }
   static int part_of(int x, int nx) { return x == 0 ? 0 : (x == nx - 1 ? 2 : 1); }
   long cell(int x, int y, int z) const {
     return x + static_cast<long>(nx_) * (y + static_cast<long>(ny_) * z);

@@ -15,11 +15,8 @@ namespace lbsolid::fluid {
 
 template <class L, class T, class Collision, bool kForce>
 void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long stride, int nx,
-                         int ny, long row_begin, long row_end, T omega, T rho0) {
+                         long row_begin, long row_end, T omega, T rho0) {
   constexpr int Q = L::Q;
-  auto plan_of = [&](long row) -> const RowPlan<T, Q>& {
-    return plans.for_row(static_cast<int>(row % ny), static_cast<int>(row / ny));
-  };
   // Updates cells [begin, end) reading population i at cell + sources[i].delta.
   auto sweep = [&](const RowPlan<T, Q>& plan, int part, long begin, long end) {
     const T* in[Q];
@@ -36,9 +33,8 @@ void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long
     update_cells<L, T, Collision, kForce, true>(in, corr, out, no_corr, force, omega, rho0, begin, end);
   };
   for (long first = row_begin; first < row_end;) {
-    const RowPlan<T, Q>& plan = plan_of(first);
-    long last = first;
-    while (last + 1 < row_end && &plan_of(last + 1) == &plan) ++last;
+    const RowPlan<T, Q>& plan = plans.for_row(first);
+    const long last = plans.last_row_sharing_plan(first, row_end);
     if (nx > 2) sweep(plan, 1, first * nx + 1, last * nx + nx - 1);
     for (long row = first; row <= last; ++row) {
       sweep(plan, 0, row * nx, row * nx + 1);

@@ -63,6 +63,14 @@ TEST(FluidConfigTest, EachBadFieldIsNamed) {
   c = FluidConfig{};
   c.body_force = {std::nan(""), 0, 0};
   EXPECT_EQ(first_error(c), "body_force: must be finite");
+
+  c = FluidConfig{};
+  c.streaming = static_cast<fluid::StreamingScheme>(9);
+  EXPECT_EQ(first_error(c), "streaming: unknown scheme 9; use in-place or two-buffer");
+
+  c = FluidConfig{};
+  c.sides[fluid::kXLow].kind = static_cast<WallKind>(7);
+  EXPECT_EQ(first_error(c), "sides.x_low: unknown wall kind 7");
 }
 
 TEST(FluidConfigTest, ConstructorRefusesWithEveryReason) {
