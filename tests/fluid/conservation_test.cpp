@@ -58,7 +58,10 @@ TYPED_TEST(ConservationTest, MassAndMomentumConservedOverTenThousandSteps) {
   EXPECT_LT(drift, 1e-12);
   const Vec3 p = fluid.total_momentum();
   // Momentum is compared per unit mass (lattice units), the scale of one node moving at speed 1.
-  for (int a = 0; a < 3; ++a) EXPECT_LT(std::abs(p[a] - p0[a]) / mass0, 1e-12) << "axis " << a;
+  double worst = 0;
+  for (int a = 0; a < 3; ++a) worst = std::max(worst, std::abs(p[a] - p0[a]) / mass0);
+  report(std::string(TypeParam::name) + " momentum drift per unit mass, 1e4 steps", worst, 1e-12);
+  EXPECT_LT(worst, 1e-12);
 }
 
 TYPED_TEST(ConservationTest, MomentumGrowsByExactlyTheBodyForcePerStep) {
@@ -71,10 +74,13 @@ TYPED_TEST(ConservationTest, MomentumGrowsByExactlyTheBodyForcePerStep) {
   const long steps = 1000;
   fluid.run(steps);
   const Vec3 p = fluid.total_momentum();
+  double worst = 0;
   for (int a = 0; a < 3; ++a) {
     const double expected = steps * static_cast<double>(fluid.cells()) * c.body_force[a];
-    EXPECT_LT(std::abs((p[a] - p0[a]) - expected) / mass0, 1e-12) << "axis " << a;
+    worst = std::max(worst, std::abs((p[a] - p0[a]) - expected) / mass0);
   }
+  report(std::string(TypeParam::name) + " momentum gain minus N F t, per unit mass", worst, 1e-12);
+  EXPECT_LT(worst, 1e-12);
   EXPECT_LT(std::abs(fluid.total_mass() - mass0) / mass0, 1e-12);
 }
 
