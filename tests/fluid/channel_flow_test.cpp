@@ -105,3 +105,47 @@ TYPED_TEST(ChannelFlowTest, TractionDrivenShearHasGradientSigmaOverRhoNu) {
 
 }  // namespace
 }  // namespace lbsolid::testing
+
+namespace lbsolid::testing {
+namespace {
+
+// The z sides follow the same rules as the y sides: a Couette flow between z walls, the upper one
+// moving along y, and a traction-driven shear between free-slip z walls.
+TEST(ZWallTest, CouetteAndTractionShearBetweenZWalls) {
+  FluidConfig c;
+  c.nx = 3;
+  c.ny = 3;
+  c.nz = 24;
+  c.sides[fluid::kZLow].kind = WallKind::kBounceBack;
+  c.sides[fluid::kZHigh].kind = WallKind::kMovingWall;
+  c.sides[fluid::kZHigh].wall_velocity = {0, 0.04, 0};
+  FluidLattice<D3Q19, double> couette(c);
+  couette.run(20000);
+  double worst = 0;
+  for (int z = 0; z < c.nz; ++z) {
+    const double expected = 0.04 * (z + 0.5) / c.nz;
+    worst = std::max(worst, std::abs(couette.velocity(1, 1, z)[1] - expected) / 0.04);
+  }
+  report("D3Q19 z-wall Couette max deviation / u_wall", worst, 0.005);
+  EXPECT_LT(worst, 0.005);
+
+  c.sides[fluid::kZLow].kind = WallKind::kFreeSlip;
+  c.sides[fluid::kZHigh].kind = WallKind::kFreeSlip;
+  c.sides[fluid::kZHigh].wall_velocity = {0, 0, 0};
+  const double sigma = 1e-5;
+  c.sides[fluid::kZHigh].traction = {0, sigma, 0};
+  c.sides[fluid::kZLow].traction = {0, -sigma, 0};
+  FluidLattice<D3Q19, double> shear(c);
+  shear.run(20000);
+  std::vector<double> zs, uy;
+  for (int z = 1; z < c.nz - 1; ++z) {  // between the forced wall layers, as in the y-wall test
+    zs.push_back(z);
+    uy.push_back(shear.velocity(1, 1, z)[1]);
+  }
+  const double ratio = fit_line(zs, uy).slope / (sigma / (c.rho0 * bgk_viscosity<D3Q19>(c.omega)));
+  report("D3Q19 z-wall traction shear gradient error", std::abs(ratio - 1), 0.01);
+  EXPECT_NEAR(ratio, 1.0, 0.01);
+}
+
+}  // namespace
+}  // namespace lbsolid::testing
