@@ -15,10 +15,6 @@ const char* wall_kind_name(WallKind kind) {
   return "unknown";
 }
 
-const char* streaming_scheme_name(StreamingScheme scheme) {
-  return scheme == StreamingScheme::kInPlace ? "in-place (AA)" : "two-buffer pull";
-}
-
 const char* side_name(int side) {
   static constexpr const char* names[6] = {"x_low", "x_high", "y_low", "y_high", "z_low", "z_high"};
   return side >= 0 && side < 6 ? names[side] : "unknown";

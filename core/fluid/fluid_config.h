@@ -29,8 +29,6 @@ enum class StreamingScheme {
   kTwoBuffer,  // two buffers, pull from one and write the other
 };
 
-const char* streaming_scheme_name(StreamingScheme scheme);
-
 // Sides in the order x_low, x_high, y_low, y_high, z_low, z_high.
 enum Side { kXLow = 0, kXHigh, kYLow, kYHigh, kZLow, kZHigh };
 const char* side_name(int side);

@@ -41,7 +41,6 @@ FluidLattice<L, T>::FluidLattice(const FluidConfig& config)
       has_force_(any_force(config)),
       plans_(config),
       storage_(config.streaming == StreamingScheme::kInPlace ? 1 : 2, Q, cells_),
-      stride_(storage_.stride()),
       pool_(std::make_unique<parallel::ThreadPool>(config.threads)) {
   if (in_place()) check_in_place_slots();
   initialize_uniform(config_.rho0, {0, 0, 0});
@@ -113,7 +112,7 @@ void FluidLattice<L, T>::initialize(const std::function<double(int, int, int)>& 
           const long c = cell(x, y, z);
           for (int i = 0; i < Q; ++i) {
             if (pass == 0) {
-              f[i * stride_ + c] = feq[i];
+              f[i * storage_.stride() + c] = feq[i];
             } else {
               const Slot s = slot(i, x, y, z);
               f[s.index] = feq[i] - s.correction;
@@ -138,7 +137,7 @@ void FluidLattice<L, T>::step() {
   const T rho0 = static_cast<T>(config_.rho0);
   const long rows = static_cast<long>(config_.ny) * config_.nz;
   const int nx = config_.nx;
-  const long stride = stride_;
+  const long stride = storage_.stride();
   const auto& plans = plans_;
   // One kernel per (scheme, phase, force) combination; each row range goes to one worker.
   auto launch = [&]<bool kForce>(std::bool_constant<kForce>) {
@@ -181,11 +180,11 @@ void FluidLattice<L, T>::run(long steps) {
 template <class L, class T>
 typename FluidLattice<L, T>::Slot FluidLattice<L, T>::slot(int i, int x, int y, int z) const {
   const long c = cell(x, y, z);
-  if (in_place() && !pulled_) return {i * stride_ + c, T(0)};
+  if (in_place() && !pulled_) return {i * storage_.stride() + c, T(0)};
   const auto& s = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)][i];
   // Two buffers keep f*_j at slot j of the source node; in place the even step left it reversed.
   const int stored_as = in_place() ? lattice::opposite<L>(s.dir) : s.dir;
-  return {stored_as * stride_ + c + s.delta, s.correction};
+  return {stored_as * storage_.stride() + c + s.delta, s.correction};
 }
 
 template <class L, class T>

@@ -76,7 +76,6 @@ class FluidLattice {
   bool has_force_;
   RowPlans<L, T> plans_;
   PopulationStorage<T> storage_;
-  long stride_;           // elements between successive populations of a buffer
   int current_ = 0;       // two-buffer: the buffer holding time t
   bool pulled_ = true;    // in-place: true when the next step is an odd (pulling) step
   long steps_ = 0;
