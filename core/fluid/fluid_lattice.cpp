@@ -89,6 +89,7 @@ void FluidLattice<L, T>::initialize(const std::function<double(int, int, int)>& 
                                     const std::function<Vec3(int, int, int)>& velocity) {
   using Collision = BgkCollision<L, T>;
   pulled_ = false;  // in place: the state is written as streamed populations
+  stepped_ = false;
   T* f = storage_.buffer(in_place() ? 0 : current_);
   const T rho0 = static_cast<T>(config_.rho0);
   auto equilibrium_at = [&](int x, int y, int z, std::array<T, Q>& feq) {
@@ -170,6 +171,7 @@ void FluidLattice<L, T>::step() {
     current_ ^= 1;
   }
   ++steps_;
+  stepped_ = true;
 }
 
 template <class L, class T>
@@ -185,6 +187,27 @@ typename FluidLattice<L, T>::Slot FluidLattice<L, T>::slot(int i, int x, int y, 
   // Two buffers keep f*_j at slot j of the source node; in place the even step left it reversed.
   const int stored_as = in_place() ? lattice::opposite<L>(s.dir) : s.dir;
   return {stored_as * storage_.stride() + c + s.delta, s.correction};
+}
+
+template <class L, class T>
+long FluidLattice<L, T>::post_collision_index(int i, int x, int y, int z) const {
+  const long c = cell(x, y, z);
+  if (!in_place()) return i * storage_.stride() + c;  // the buffer just written holds f*_i at c
+  constexpr auto opp = lattice::opposite_table<L>();
+  if (pulled_) return opp[i] * storage_.stride() + c;  // an even step wrote f*_i reversed, locally
+  // An odd step wrote f*_i into the slot it had read population opp(i) from.
+  const auto& s = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)][opp[i]];
+  return opp[s.dir] * storage_.stride() + c + s.delta;
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::add_momentum(int x, int y, int z, const Vec3& dp) {
+  if (!stepped_) throw std::logic_error("add_momentum: no step has produced post-collision populations yet");
+  T* f = storage_.buffer(in_place() ? 0 : current_);
+  for (int i = 0; i < Q; ++i) {
+    const double c_dot_dp = L::c[i][0] * dp[0] + L::c[i][1] * dp[1] + L::c[i][2] * dp[2];
+    f[post_collision_index(i, x, y, z)] += static_cast<T>(L::w[i] * c_dot_dp / L::cs2);
+  }
 }
 
 template <class L, class T>

@@ -47,6 +47,10 @@ class FluidLattice {
 
   void step();
   void run(long steps);
+  // MODEL.md eq. 12: adds w_i (c_i . dp) / c_s^2 to the post-collision populations that node
+  // (x, y, z) produced in the step just taken, before they arrive downstream. The node's momentum
+  // grows by exactly dp and its mass is unchanged. Call between step() and the next step().
+  void add_momentum(int x, int y, int z, const Vec3& dp);
   void set_threads(int threads);
 
   // Observers (computed on request).
@@ -68,6 +72,8 @@ class FluidLattice {
     T correction;
   };
   Slot slot(int i, int x, int y, int z) const;
+  // Where the last step stored post-collision population i of node (x, y, z).
+  long post_collision_index(int i, int x, int y, int z) const;
   std::array<T, L::Q> gather(int x, int y, int z) const;  // shifted populations at time t
   void check_in_place_slots() const;
 
@@ -79,6 +85,7 @@ class FluidLattice {
   int current_ = 0;       // two-buffer: the buffer holding time t
   bool pulled_ = true;    // in-place: true when the next step is an odd (pulling) step
   long steps_ = 0;
+  bool stepped_ = false;  // a step has run since the last initialize(): add_momentum is allowed
   std::unique_ptr<parallel::ThreadPool> pool_;
 };
 

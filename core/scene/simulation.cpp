@@ -1,0 +1,235 @@
+#include "scene/simulation.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "coupling/momentum_exchange.h"
+#include "coupling/node_locator.h"
+#include "lattice/d2q7.h"
+#include "lattice/d2q9.h"
+#include "lattice/d3q19.h"
+#include "solid/wall_contact.h"
+
+namespace lbsolid::scene {
+
+namespace {
+
+bool nonzero(const Vec3& v) { return v[0] != 0 || v[1] != 0 || v[2] != 0; }
+
+template <class L, class T>
+class SimulationImpl final : public Simulation {
+ public:
+  explicit SimulationImpl(const Scene& scene) : scene_(scene), locator_(scene.fluid) {
+    if (scene.with_fluid) fluid_ = std::make_unique<fluid::FluidLattice<L, T>>(scene.fluid);
+    if (scene.bodies.empty()) return;
+    solid_ = std::make_unique<solid::SolidSystem>(L::D);
+    for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+      const auto& spec = scene.bodies[b];
+      const std::string name = spec.name.empty() ? "body" + std::to_string(b) : spec.name;
+      solid_->add_body(name, solid::body_labels(spec, L::D), spec.spacing, spec.centre, spec.velocity, spec.load);
+      loads_ = loads_ || nonzero(spec.load);
+    }
+    const int n = solid_->particle_count();
+    force_.resize(n);
+    if (fluid_) {
+      exchange_ = std::make_unique<coupling::MomentumExchange>(fluid_->cells(), scene.exchange);
+      node_.resize(n);
+      cell_.resize(n);
+      psi_.resize(n);
+      dp_.resize(n);
+      for (int p = 0; p < n; ++p) mass_.push_back(solid_->mass(p));
+    }
+    if (scene.contact.enabled) {
+      walls_.restitution = scene.contact.restitution;
+      for (int side = 0; side < 2 * L::D; ++side) {
+        walls_.present[side] = scene.fluid.sides[side].kind != fluid::WallKind::kPeriodic;
+        walls_.position[side] = wall_position(scene, side);
+      }
+    }
+  }
+
+  void step() override {
+    const std::vector<coupling::NodeExchange>* exchanged = nullptr;
+    if (exchange_) {
+      for (int p = 0; p < solid_->particle_count(); ++p) {
+        psi_[p] = solid_->momentum(p);
+        node_[p] = locator_.nearest(solid_->position(p));
+        cell_[p] = locator_.cell(node_[p]);
+      }
+      exchanged = &exchange_->compute(
+          node_, cell_, mass_, psi_, [&](const coupling::Node& at) { return fluid_->moments(at[0], at[1], at[2]); }, dp_);
+    }
+    if (fluid_) {
+      fluid_->step();
+      if (exchanged)
+        for (const auto& e : *exchanged) fluid_->add_momentum(e.node[0], e.node[1], e.node[2], e.momentum);
+    }
+    if (solid_) {
+      const int n = solid_->particle_count();
+      for (int p = 0; p < n; ++p) force_[p] = loads_ ? solid_->body(solid_->body_of(p)).load : Vec3{0, 0, 0};
+      if (exchange_)
+        for (int p = 0; p < n; ++p)
+          for (int a = 0; a < 3; ++a) force_[p][a] -= dp_[p][a];
+      if (walls_.any()) solid::add_wall_contact(walls_, *solid_, force_);
+      solid_->step(force_);
+    }
+    ++steps_;
+  }
+
+  long step_count() const override { return steps_; }
+  const Scene& scene() const override { return scene_; }
+  bool has_fluid() const override { return fluid_ != nullptr; }
+  const solid::SolidSystem* solid() const override { return solid_.get(); }
+
+  std::vector<std::string> stages() const override {
+    std::vector<std::string> s;
+    if (exchange_) s.push_back("exchange");
+    if (fluid_) s.push_back("fluid");
+    if (loads_) s.push_back("loads");
+    if (solid_ && walls_.any()) s.push_back("contact");
+    if (solid_) s.push_back("solid");
+    return s;
+  }
+
+  std::size_t fluid_bytes() const override { return fluid_ ? fluid_->bytes_allocated() : 0; }
+  std::size_t solid_bytes() const override {
+    if (!solid_) return 0;
+    std::size_t bytes = solid_->bytes_allocated() + force_.capacity() * sizeof(Vec3);
+    if (exchange_)
+      bytes += exchange_->bytes_allocated() + node_.capacity() * sizeof(coupling::Node) +
+               cell_.capacity() * sizeof(long) + (psi_.capacity() + dp_.capacity()) * sizeof(Vec3) +
+               mass_.capacity() * sizeof(double);
+    return bytes;
+  }
+
+  std::vector<double> velocity_profile() const override {
+    const auto& f = require_fluid("velocity_profile");
+    const auto& c = scene_.fluid;
+    std::vector<double> profile(c.ny, 0.0);
+    for (int y = 0; y < c.ny; ++y) {
+      for (int z = 0; z < c.nz; ++z)
+        for (int x = 0; x < c.nx; ++x) profile[y] += f.velocity(x, y, z)[0];
+      profile[y] /= static_cast<double>(c.nx) * c.nz;
+    }
+    return profile;
+  }
+
+  fluid::Moments fluid_moments(int x, int y, int z) const override {
+    return require_fluid("fluid_moments").moments(x, y, z);
+  }
+
+  Vec3 fluid_velocity_at_particle(int p) const override {
+    const auto& f = require_fluid("fluid_velocity_at_particle");
+    if (!solid_) throw std::logic_error("fluid_velocity_at_particle: the scene has no bodies");
+    const auto node = locator_.nearest(solid_->position(p));
+    return f.velocity(node[0], node[1], node[2]);
+  }
+
+  Totals totals() const override {
+    Totals t;
+    if (fluid_) {
+      t.fluid_mass = fluid_->total_mass();
+      t.fluid_momentum = fluid_->total_momentum();
+      const auto& c = scene_.fluid;
+      for (int z = 0; z < c.nz; ++z)
+        for (int y = 0; y < c.ny; ++y)
+          for (int x = 0; x < c.nx; ++x) {
+            const auto m = fluid_->moments(x, y, z);
+            t.fluid_kinetic_energy += 0.5 * m.rho * (m.u[0] * m.u[0] + m.u[1] * m.u[1] + m.u[2] * m.u[2]);
+          }
+    }
+    if (solid_) {
+      t.solid_momentum = solid_->total_momentum();
+      t.solid_energy = solid_->total_energy();
+    }
+    return t;
+  }
+
+ private:
+  const fluid::FluidLattice<L, T>& require_fluid(const char* what) const {
+    if (!fluid_) throw std::logic_error(std::string(what) + ": the scene has no fluid");
+    return *fluid_;
+  }
+
+  Scene scene_;
+  coupling::NodeLocator<L> locator_;
+  std::unique_ptr<fluid::FluidLattice<L, T>> fluid_;
+  std::unique_ptr<solid::SolidSystem> solid_;
+  std::unique_ptr<coupling::MomentumExchange> exchange_;
+  solid::ContactWalls walls_;
+  bool loads_ = false;
+  long steps_ = 0;
+  // Per-particle scratch, reused every step.
+  std::vector<coupling::Node> node_;
+  std::vector<long> cell_;
+  std::vector<double> mass_;
+  std::vector<Vec3> psi_, dp_, force_;
+};
+
+template <class L>
+std::unique_ptr<Simulation> build_for_lattice(const Scene& scene) {
+  if (scene.precision == Precision::kFloat) return std::make_unique<SimulationImpl<L, float>>(scene);
+  return std::make_unique<SimulationImpl<L, double>>(scene);
+}
+
+}  // namespace
+
+std::unique_ptr<Simulation> build_simulation(const Scene& scene) {
+  const auto errors = validate_scene(scene);
+  if (!errors.empty()) {
+    std::string message = "invalid scene: ";
+    for (std::size_t k = 0; k < errors.size(); ++k) message += (k ? "; " : "") + errors[k];
+    throw std::invalid_argument(message);
+  }
+  switch (scene.lattice) {
+    case LatticeKind::kD2Q9: return build_for_lattice<lattice::D2Q9>(scene);
+    case LatticeKind::kD2Q7: return build_for_lattice<lattice::D2Q7>(scene);
+    case LatticeKind::kD3Q19: return build_for_lattice<lattice::D3Q19>(scene);
+  }
+  throw std::invalid_argument("lattice: unknown lattice");
+}
+
+BodyState Simulation::body_state(int body) const {
+  const auto* s = solid();
+  if (!s || body < 0 || body >= s->body_count())
+    throw std::out_of_range("body: no body " + std::to_string(body) + " in this scene");
+  BodyState state;
+  const auto& b = s->body(body);
+  Vec3 momentum{0, 0, 0};
+  for (int p = b.first; p < b.first + b.count; ++p) {
+    const double m = s->mass(p);
+    const Vec3 psi = s->momentum(p);
+    state.mass += m;
+    for (int a = 0; a < 3; ++a) {
+      state.centre_of_mass[a] += m * s->position(p)[a];
+      momentum[a] += psi[a];
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    state.centre_of_mass[a] /= state.mass;
+    state.velocity[a] = momentum[a] / state.mass;
+  }
+  return state;
+}
+
+Vec3 Simulation::particle_velocity(int p) const {
+  const Vec3 psi = solid()->momentum(p);
+  const double m = solid()->mass(p);
+  return {psi[0] / m, psi[1] / m, psi[2] / m};
+}
+
+double Simulation::body_slip(int body) const {
+  const auto* s = solid();
+  if (!s || body < 0 || body >= s->body_count())
+    throw std::out_of_range("body: no body " + std::to_string(body) + " in this scene");
+  const auto& b = s->body(body);
+  double sum = 0;
+  for (int p = b.first; p < b.first + b.count; ++p) {
+    const Vec3 us = particle_velocity(p), uf = fluid_velocity_at_particle(p);
+    const double diff = std::hypot(us[0] - uf[0], us[1] - uf[1], us[2] - uf[2]);
+    sum += diff / std::hypot(us[0], us[1], us[2]);
+  }
+  return sum / b.count;
+}
+
+}  // namespace lbsolid::scene

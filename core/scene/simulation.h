@@ -1,0 +1,73 @@
+#pragma once
+// A running scene. build_simulation() assembles it from ONLY the stages the scene needs (MODEL.md
+// section 3's step order, minus what is absent):
+//   exchange  (fluid and bodies)   pre-collision fluid moments and solid momenta at each particle's
+//                                  nearest node -> the momentum each particle gives its node
+//   fluid     (a fluid)            collide + stream + walls, then each node's exchange (eq. 12)
+//   loads     (a body with a load) the applied force on every particle of that body
+//   contact   (bodies and walls)   the wall force on particles about to cross a wall
+//   solid     (bodies)             the LB wave update (eqs. 6-7) with all those forces
+// A stage that is absent has no storage and costs nothing. Observers are computed on request.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fluid/fluid_lattice.h"
+#include "scene/scene.h"
+#include "solid/solid_system.h"
+
+namespace lbsolid::scene {
+
+using Vec3 = fluid::Vec3;
+
+struct BodyState {
+  Vec3 centre_of_mass{0, 0, 0};  // mass-weighted mean position
+  Vec3 velocity{0, 0, 0};        // total momentum / total mass
+  double mass = 0;
+};
+
+struct Totals {
+  double fluid_mass = 0;
+  Vec3 fluid_momentum{0, 0, 0};      // sum over nodes of sum_i f_i c_i
+  double fluid_kinetic_energy = 0;   // sum over nodes of rho |u|^2 / 2
+  Vec3 solid_momentum{0, 0, 0};      // sum of Psi
+  double solid_energy = 0;           // sum of E = sum_k |f_k|^2 (eq. 9)
+  Vec3 momentum() const {
+    return {fluid_momentum[0] + solid_momentum[0], fluid_momentum[1] + solid_momentum[1],
+            fluid_momentum[2] + solid_momentum[2]};
+  }
+};
+
+class Simulation {
+ public:
+  virtual ~Simulation() = default;
+
+  virtual void step() = 0;
+  void run(long steps) {
+    for (long s = 0; s < steps; ++s) step();
+  }
+  virtual long step_count() const = 0;
+  virtual const Scene& scene() const = 0;
+  // The stages run each step, in order: a subset of exchange, fluid, loads, contact, solid.
+  virtual std::vector<std::string> stages() const = 0;
+  virtual std::size_t fluid_bytes() const = 0;     // 0 without fluid
+  virtual std::size_t solid_bytes() const = 0;     // solid and exchange storage; 0 without bodies
+  virtual const solid::SolidSystem* solid() const = 0;  // null without bodies
+  virtual bool has_fluid() const = 0;
+
+  // Observers (require a fluid where they read it; std::logic_error otherwise).
+  virtual std::vector<double> velocity_profile() const = 0;  // u_x(y), averaged along x (and z)
+  virtual fluid::Moments fluid_moments(int x, int y, int z = 0) const = 0;
+  virtual Vec3 fluid_velocity_at_particle(int p) const = 0;  // at its nearest node, before exchange
+  virtual Totals totals() const = 0;
+  BodyState body_state(int body) const;
+  // Mean over the body's particles of |u_s - u_f| / |u_s| (u_f at the nearest node).
+  double body_slip(int body) const;
+  // Per particle: u_s = Psi / M.
+  Vec3 particle_velocity(int p) const;
+};
+
+// Throws std::invalid_argument listing every problem (validate_scene) if the scene cannot run.
+std::unique_ptr<Simulation> build_simulation(const Scene& scene);
+
+}  // namespace lbsolid::scene

@@ -1,0 +1,40 @@
+#pragma once
+// What a body is: a shape that yields a set of integer labels on the square/cubic topology, and
+// where and how it starts. Plain data; body_labels() turns a shape into labels.
+#include <string>
+#include <vector>
+
+#include "solid/solid_topology.h"
+
+namespace lbsolid::solid {
+
+enum class BodyShape {
+  kRectangle,  // size[0] x size[1] (x size[2] in 3D) particles: a sheet or a box
+  kDisk,       // every label within `radius` of the centre label: a disk, a ball in 3D
+  kChain,      // `length` particles along `axis`: a 1D polymer
+  kLabels,     // the explicit `labels`
+};
+
+const char* body_shape_name(BodyShape shape);
+
+struct BodySpec {
+  std::string name;  // for output; defaults to "body<index>"
+  BodyShape shape = BodyShape::kRectangle;
+  std::array<int, 3> size{1, 1, 1};  // kRectangle: particles per axis
+  double radius = 0;                 // kDisk: in particles (rest spacings)
+  int length = 0;                    // kChain: particles
+  int axis = 0;                      // kChain: 0 = x, 1 = y, 2 = z
+  std::vector<Label> labels;         // kLabels
+  double spacing = 1.0;  // rest distance between linked particles, lattice units
+  Vec3 centre{0, 0, 0};  // where the centroid of the rest shape is placed
+  Vec3 velocity{0, 0, 0};  // initial rigid velocity, lattice units per step
+  Vec3 load{0, 0, 0};      // external force on every particle, lattice units
+};
+
+// The labels of a shape, in a fixed order (x fastest). Empty if the shape's size is not positive.
+std::vector<Label> body_labels(const BodySpec& spec, int dimension);
+
+// "<prefix>.<field>: <reason>" for every problem with the spec alone (not its placement).
+std::vector<std::string> validate_body_spec(const BodySpec& spec, int dimension, const std::string& prefix);
+
+}  // namespace lbsolid::solid

@@ -1,0 +1,114 @@
+#include "solid/solid_system.h"
+
+#include <map>
+#include <stdexcept>
+
+namespace lbsolid::solid {
+
+SolidSystem::SolidSystem(int dimension) : topology_{dimension}, links_(2 * dimension) {
+  if (dimension != 2 && dimension != 3)
+    throw std::invalid_argument("dimension: must be 2 or 3, got " + std::to_string(dimension));
+}
+
+int SolidSystem::add_body(const std::string& name, const std::vector<Label>& labels, double spacing,
+                          const Vec3& centre, const Vec3& velocity, const Vec3& load) {
+  const int first = particle_count();
+  const int n = static_cast<int>(labels.size());
+  std::map<Label, int> index;
+  Vec3 centroid{0, 0, 0};
+  for (int q = 0; q < n; ++q) {
+    if (!index.emplace(labels[q], first + q).second)
+      throw std::invalid_argument("labels: a label appears twice in body '" + name + "'");
+    for (int a = 0; a < 3; ++a) centroid[a] += labels[q][a] / static_cast<double>(n);
+  }
+  const int body = body_count();
+  bodies_.push_back({name, first, n, load});
+  for (int q = 0; q < n; ++q) {
+    const Label& l = labels[q];
+    body_index_.push_back(body);
+    labels_.push_back(l);
+    Vec3 r;
+    for (int a = 0; a < 3; ++a) r[a] = centre[a] + spacing * (l[a] - centroid[a]);
+    positions_.push_back(r);
+    int links = 0;
+    for (int k = 0; k < links_; ++k) {
+      const Label c = topology_.link(k);
+      const auto it = index.find({l[0] + c[0], l[1] + c[1], l[2] + c[2]});
+      neighbours_.push_back(it == index.end() ? -1 : it->second);
+      links += it != index.end();
+      Vec3 rest{0, 0, 0};
+      if (it != index.end())
+        for (int a = 0; a < 3; ++a) rest[a] = spacing * c[a];
+      rest_.push_back(rest);
+    }
+    if (links == 0)
+      throw std::invalid_argument("labels: a particle of body '" + name + "' has no neighbour (M = K/2 = 0)");
+    mass_.push_back(0.5 * links);
+  }
+  // A rigid motion: every existing incoming link carries velocity/2. Link k arrives from l - c_k,
+  // which exists exactly when link opp(k) of l does.
+  const Vec3 half{0.5 * velocity[0], 0.5 * velocity[1], 0.5 * velocity[2]};
+  for (int p = first; p < first + n; ++p)
+    for (int k = 0; k < links_; ++k) {
+      incoming_.push_back(neighbours_[p * links_ + topology_.opposite(k)] >= 0 ? half : Vec3{0, 0, 0});
+      outgoing_.push_back({0, 0, 0});
+    }
+  return body;
+}
+
+void SolidSystem::step(const std::vector<Vec3>& force) {
+  const int n = particle_count();
+  for (int p = 0; p < n; ++p) {
+    const Vec3 psi = momentum(p);
+    const double inv_m = 1.0 / mass_[p];
+    Vec3 base;  // Psi/M + F/(2M): the displacement, and the common part of every outgoing vector
+    for (int a = 0; a < 3; ++a) base[a] = (psi[a] + 0.5 * force[p][a]) * inv_m;
+    for (int k = 0; k < links_; ++k) {
+      const int q = neighbours_[p * links_ + k];
+      if (q < 0) continue;
+      const Vec3& back = incoming_[p * links_ + topology_.opposite(k)];
+      Vec3& out = outgoing_[q * links_ + k];
+      for (int a = 0; a < 3; ++a) out[a] = base[a] - back[a];
+    }
+    for (int a = 0; a < 3; ++a) positions_[p][a] += base[a];
+  }
+  incoming_.swap(outgoing_);
+}
+
+Vec3 SolidSystem::momentum(int p) const {
+  Vec3 psi{0, 0, 0};
+  for (int k = 0; k < links_; ++k)
+    for (int a = 0; a < 3; ++a) psi[a] += incoming_[p * links_ + k][a];
+  return psi;
+}
+
+double SolidSystem::energy(int p) const {
+  double e = 0;
+  for (int k = 0; k < links_; ++k)
+    for (int a = 0; a < 3; ++a) e += incoming_[p * links_ + k][a] * incoming_[p * links_ + k][a];
+  return e;
+}
+
+Vec3 SolidSystem::total_momentum() const {
+  Vec3 total{0, 0, 0};
+  for (int p = 0; p < particle_count(); ++p) {
+    const Vec3 psi = momentum(p);
+    for (int a = 0; a < 3; ++a) total[a] += psi[a];
+  }
+  return total;
+}
+
+double SolidSystem::total_energy() const {
+  double total = 0;
+  for (int p = 0; p < particle_count(); ++p) total += energy(p);
+  return total;
+}
+
+std::size_t SolidSystem::bytes_allocated() const {
+  return body_index_.capacity() * sizeof(int) + labels_.capacity() * sizeof(Label) +
+         positions_.capacity() * sizeof(Vec3) + mass_.capacity() * sizeof(double) +
+         neighbours_.capacity() * sizeof(int) +
+         (incoming_.capacity() + outgoing_.capacity() + rest_.capacity()) * sizeof(Vec3);
+}
+
+}  // namespace lbsolid::solid
