@@ -92,7 +92,8 @@ std::vector<std::string> validate_scene(const Scene& scene) {
     errors.push_back("contact.restitution: must lie in [0, 1], got " + std::to_string(scene.contact.restitution));
   if (scene.exchange != coupling::ExchangeRule::kCommonVelocity && scene.exchange != coupling::ExchangeRule::kPairwise)
     errors.push_back("exchange: unknown rule; use common-velocity or pairwise");
-  const bool box_ok = errors.empty();
+  // Placement needs only a box with a size; other errors do not hide a misplaced body.
+  const bool box_ok = scene.fluid.nx >= 1 && scene.fluid.ny >= 1 && scene.fluid.nz >= 1;
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     const std::string prefix = "bodies[" + std::to_string(b) + "]";
     const auto body_errors = solid::validate_body_spec(scene.bodies[b], dimension, prefix);

@@ -1,0 +1,133 @@
+// Scenes: validation names the field and the reason; the builder assembles only the stages a
+// scene declares, and a fluid-only scene is exactly the bare fluid.
+#include <gtest/gtest.h>
+
+#include "fluid/fluid_test_support.h"
+#include "scene/simulation.h"
+
+namespace lbsolid::scene {
+namespace {
+
+Scene channel() {
+  Scene s;
+  s.lattice = LatticeKind::kD2Q7;
+  s.fluid.nx = 20;
+  s.fluid.ny = 10;
+  s.fluid.sides[fluid::kYLow].kind = s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kBounceBack;
+  return s;
+}
+
+solid::BodySpec disk_at(double x, double y) {
+  solid::BodySpec d;
+  d.shape = solid::BodyShape::kDisk;
+  d.radius = 2;
+  d.centre = {x, y, 0};
+  return d;
+}
+
+bool has_error(const std::vector<std::string>& errors, const std::string& start) {
+  for (const auto& e : errors)
+    if (e.rfind(start, 0) == 0) return true;
+  return false;
+}
+
+TEST(SceneValidation, EveryErrorNamesItsField) {
+  Scene s = channel();
+  s.fluid.omega = 2.5;
+  s.contact.restitution = 1.5;
+  s.bodies.push_back(disk_at(10, 1.0));  // reaches below the y_low wall
+  s.bodies.push_back(disk_at(10, 4));
+  s.bodies.back().radius = 0.5;
+  const auto errors = validate_scene(s);
+  for (const auto& e : errors) std::printf("  %s\n", e.c_str());
+  EXPECT_TRUE(has_error(errors, "omega: must lie in (0, 2)"));
+  EXPECT_TRUE(has_error(errors, "contact.restitution: must lie in [0, 1]"));
+  EXPECT_TRUE(has_error(errors, "bodies[0].centre: particle at (10, -1) lies on or beyond the y_low wall (at -0.433"));
+  EXPECT_TRUE(has_error(errors, "bodies[1].radius: must be at least 1"));
+  EXPECT_EQ(errors.size(), 4u);
+  try {
+    build_simulation(s);
+    FAIL() << "an invalid scene was built";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("omega: must lie in (0, 2)"), std::string::npos);
+  }
+}
+
+TEST(SceneValidation, SceneWithoutFluidNeedsABodyAndNoBodyForce) {
+  Scene s = channel();
+  s.with_fluid = false;
+  s.fluid.body_force = {1e-5, 0, 0};
+  const auto errors = validate_scene(s);
+  EXPECT_TRUE(has_error(errors, "body_force: is set but the scene has no fluid"));
+  EXPECT_TRUE(has_error(errors, "bodies: a scene without fluid needs at least one body"));
+}
+
+TEST(SceneValidation, ThreeDimensionalBodies) {
+  Scene s;
+  s.lattice = LatticeKind::kD3Q19;
+  s.fluid.nx = s.fluid.ny = s.fluid.nz = 8;
+  solid::BodySpec chain;
+  chain.shape = solid::BodyShape::kChain;
+  chain.length = 4;
+  chain.axis = 2;
+  chain.centre = {4, 4, 4};
+  s.bodies.push_back(chain);
+  EXPECT_TRUE(validate_scene(s).empty());
+  s.lattice = LatticeKind::kD2Q9;
+  s.fluid.nz = 1;
+  chain.centre[2] = 0;
+  s.bodies[0] = chain;
+  EXPECT_TRUE(has_error(validate_scene(s), "bodies[0].axis: must be 0 (x), 1 (y)"));
+}
+
+TEST(SimulationBuilder, HoldsOnlyTheStagesTheSceneNeeds) {
+  Scene fluid_only = channel();
+  auto a = build_simulation(fluid_only);
+  EXPECT_EQ(a->stages(), std::vector<std::string>{"fluid"});
+  EXPECT_EQ(a->solid_bytes(), 0u);
+  EXPECT_EQ(a->solid(), nullptr);
+
+  Scene coupled = channel();
+  coupled.bodies.push_back(disk_at(10, 4.5));
+  auto b = build_simulation(coupled);
+  EXPECT_EQ(b->stages(), (std::vector<std::string>{"exchange", "fluid", "contact", "solid"}));
+  coupled.bodies[0].load = {1e-4, 0, 0};
+  coupled.contact.enabled = false;
+  EXPECT_EQ(build_simulation(coupled)->stages(), (std::vector<std::string>{"exchange", "fluid", "loads", "solid"}));
+
+  Scene periodic = coupled;  // no walls: no contact stage even when contact is enabled
+  periodic.contact.enabled = true;
+  periodic.fluid.sides[fluid::kYLow].kind = periodic.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kPeriodic;
+  EXPECT_EQ(build_simulation(periodic)->stages(), (std::vector<std::string>{"exchange", "fluid", "loads", "solid"}));
+
+  Scene solid_only = coupled;
+  solid_only.with_fluid = false;
+  auto c = build_simulation(solid_only);
+  EXPECT_EQ(c->stages(), (std::vector<std::string>{"loads", "solid"}));
+  EXPECT_EQ(c->fluid_bytes(), 0u);
+  EXPECT_GT(c->solid_bytes(), 0u);
+  EXPECT_THROW(c->velocity_profile(), std::logic_error);
+}
+
+// The builder adds nothing to a fluid-only scene: it steps exactly as the bare fluid does.
+TEST(SimulationBuilder, FluidOnlySceneEqualsBareFluidBitForBit) {
+  Scene s = channel();
+  s.fluid.body_force = {1e-5, 0, 0};
+  auto sim = build_simulation(s);
+  fluid::FluidLattice<lattice::D2Q7, double> bare(s.fluid);
+  sim->run(101);
+  bare.run(101);
+  const auto profile = sim->velocity_profile();
+  for (int y = 0; y < s.fluid.ny; ++y) {
+    double mean = 0;
+    for (int x = 0; x < s.fluid.nx; ++x) mean += bare.velocity(x, y)[0];
+    EXPECT_EQ(profile[y], mean / s.fluid.nx) << "row " << y;
+    for (int x = 0; x < s.fluid.nx; ++x) {
+      const auto m = sim->fluid_moments(x, y);
+      EXPECT_EQ(m.rho, bare.density(x, y));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lbsolid::scene
