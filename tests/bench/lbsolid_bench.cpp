@@ -3,7 +3,9 @@
 // cache, with one thread and with all cores, beside the memory bandwidth measured in the same run
 // (a STREAM-style copy for two-buffer streaming, an in-place update for in-place streaming), the
 // bytes moved per cell update, the roofline that implies, and the fraction of it reached.
-//   lbsolid-bench [--json] [--quick] [--threads N]
+// Then the scene benchmarks (bench/scene_bench.h): the builder's overhead on a fluid-only scene,
+// a solid-only scene's memory, and coupled steps at 0.1 and 1 particle per cell.
+//   lbsolid-bench [--json] [--quick] [--threads N] [--scenes-only]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +16,7 @@
 #include <vector>
 
 #include "bench/memory_bandwidth.h"
+#include "bench/scene_bench.h"
 #include "fluid/fluid_lattice.h"
 #include "lattice/d2q7.h"
 #include "lattice/d2q9.h"
@@ -85,14 +88,15 @@ Row measure(std::size_t working_set, int threads, fluid::StreamingScheme streami
 int main(int argc, char** argv) {
   using namespace lbsolid;
   using namespace lbsolid::bench;
-  bool json = false, quick = false;
+  bool json = false, quick = false, scenes_only = false;
   int all = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (int k = 1; k < argc; ++k) {
     if (!std::strcmp(argv[k], "--json")) json = true;
     else if (!std::strcmp(argv[k], "--quick")) quick = true;
+    else if (!std::strcmp(argv[k], "--scenes-only")) scenes_only = true;
     else if (!std::strcmp(argv[k], "--threads") && k + 1 < argc) all = std::max(1, std::atoi(argv[++k]));
     else {
-      std::fprintf(stderr, "usage: lbsolid-bench [--json] [--quick] [--threads N]\n");
+      std::fprintf(stderr, "usage: lbsolid-bench [--json] [--quick] [--threads N] [--scenes-only]\n");
       return 2;
     }
   }
@@ -104,7 +108,7 @@ int main(int argc, char** argv) {
   if (all > 1) thread_counts.push_back(all);
 
   std::vector<Row> rows;
-  for (int threads : thread_counts) {
+  for (int threads : scenes_only ? std::vector<int>{} : thread_counts) {
     for (auto scheme : {fluid::StreamingScheme::kInPlace, fluid::StreamingScheme::kTwoBuffer}) {
       // Each scheme is held against the STREAM-style loop with its access pattern: in place
       // against an update of one array, two buffers against a copy between two.
@@ -135,6 +139,7 @@ int main(int argc, char** argv) {
     }
   }
 
+  const std::vector<SceneRow> scene_rows = run_scene_benchmarks(quick);
   if (json) {
     std::printf("{\n  \"last_level_cache_bytes\": %zu,\n  \"working_set_bytes\": %zu,\n  \"results\": [\n", llc,
                 working_set);
@@ -146,7 +151,9 @@ int main(int argc, char** argv) {
                   r.lattice.c_str(), r.precision.c_str(), r.streaming.c_str(), r.threads, r.cells, r.mlups, r.bytes_per_update,
                   r.bandwidth / 1e9, r.roofline, r.mlups / r.roofline, k + 1 < rows.size() ? "," : "");
     }
-    std::printf("  ]\n}\n");
+    std::printf("  ],\n");
+    print_scene_rows_json(scene_rows);
+    std::printf("}\n");
     return 0;
   }
   std::printf("lbsolid-bench: fused BGK stream-collide, periodic box, in-place (AA) and two-buffer streaming\n");
@@ -166,5 +173,6 @@ int main(int argc, char** argv) {
       break;
     }
   }
+  print_scene_rows(scene_rows);
   return 0;
 }

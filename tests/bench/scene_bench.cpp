@@ -1,0 +1,145 @@
+#include "bench/scene_bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "lattice/d2q7.h"
+#include "scene/simulation.h"
+
+namespace lbsolid::bench {
+namespace {
+
+using scene::Scene;
+
+// Best seconds per step over several segments (the least disturbed on a shared machine).
+template <class Stepper>
+double seconds_per_step(Stepper&& step, double min_seconds) {
+  constexpr int kSegments = 5;
+  double best = INFINITY;
+  for (int segment = 0; segment < kSegments; ++segment) {
+    long steps = 0;
+    double seconds = 0;
+    const auto start = std::chrono::steady_clock::now();
+    while (seconds < min_seconds / kSegments) {
+      step();
+      ++steps;
+      seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    best = std::min(best, seconds / steps);
+  }
+  return best;
+}
+
+// A D2Q7 box periodic in x between bounce-back walls, n x n nodes, the paper's omega = 1.
+Scene paper_box(int n) {
+  Scene s;
+  s.lattice = scene::LatticeKind::kD2Q7;
+  s.fluid.nx = n;
+  s.fluid.ny = n;
+  s.fluid.omega = 1.0;
+  s.fluid.sides[fluid::kYLow].kind = s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kBounceBack;
+  return s;
+}
+
+// Square 16x16 sheets on a regular grid of the box until `per_cell` particles per fluid cell.
+void add_sheets(Scene& s, double per_cell) {
+  const long cells = static_cast<long>(s.fluid.nx) * s.fluid.ny;
+  const long wanted = static_cast<long>(per_cell * cells);
+  const double h = lattice::D2Q7::row_spacing;
+  const int side = 16;
+  long placed = 0;
+  // The sheets' spacing shrinks until `wanted` particles fit (spacing 1 covers one cell each).
+  const double spacing = std::min(1.0, std::sqrt(s.fluid.nx * (s.fluid.ny - 2) * h / static_cast<double>(wanted)));
+  const double pitch = side * spacing + 0.01;
+  for (double y = 1 + 0.5 * pitch; y + 0.5 * pitch < (s.fluid.ny - 1) * h && placed < wanted; y += pitch)
+    for (double x = 0.5 * pitch; x + 0.5 * pitch < s.fluid.nx && placed < wanted; x += pitch) {
+      solid::BodySpec sheet;
+      sheet.size = {side, side, 1};
+      sheet.spacing = spacing;
+      sheet.centre = {x, y, 0};
+      sheet.velocity = {0.01, 0, 0};
+      s.bodies.push_back(sheet);
+      placed += side * side;
+    }
+}
+
+}  // namespace
+
+std::vector<SceneRow> run_scene_benchmarks(bool quick) {
+  std::vector<SceneRow> rows;
+  const double min_seconds = quick ? 0.5 : 2.0;
+  const int n = quick ? 512 : 1024;
+
+  // 1. A fluid-only scene through the builder against the bare kernel, interleaved A/B/A/B.
+  {
+    Scene s = paper_box(n);
+    auto sim = scene::build_simulation(s);
+    fluid::FluidLattice<lattice::D2Q7, double> bare(s.fluid);
+    double built = INFINITY, plain = INFINITY;
+    for (int round = 0; round < 3; ++round) {
+      built = std::min(built, seconds_per_step([&] { sim->step(); }, min_seconds));
+      plain = std::min(plain, seconds_per_step([&] { bare.step(); }, min_seconds));
+    }
+    rows.push_back({"fluid-only scene vs bare kernel", "D2Q7", bare.cells(), 0, built, plain,
+                    static_cast<double>(sim->fluid_bytes()), static_cast<double>(sim->solid_bytes())});
+  }
+  // 2. A solid-only scene (the paper's Fig. 1 kind): no fluid storage at all.
+  {
+    Scene s = paper_box(n);
+    s.with_fluid = false;
+    add_sheets(s, 0.1);
+    auto sim = scene::build_simulation(s);
+    const double t = seconds_per_step([&] { sim->step(); }, min_seconds);
+    rows.push_back({"solid-only scene", "D2Q7", 0, sim->solid()->particle_count(), t, 0,
+                    static_cast<double>(sim->fluid_bytes()), static_cast<double>(sim->solid_bytes())});
+  }
+  // 3. Coupled steps at 0.1 and 1 particle per fluid cell, against the fluid-only step.
+  for (double per_cell : {0.1, 1.0}) {
+    Scene fluid_only = paper_box(n), coupled = paper_box(n);
+    add_sheets(coupled, per_cell);
+    auto a = scene::build_simulation(fluid_only);
+    auto b = scene::build_simulation(coupled);
+    double plain = INFINITY, with_solid = INFINITY;
+    for (int round = 0; round < 2; ++round) {
+      plain = std::min(plain, seconds_per_step([&] { a->step(); }, min_seconds));
+      with_solid = std::min(with_solid, seconds_per_step([&] { b->step(); }, min_seconds));
+    }
+    char what[64];
+    std::snprintf(what, sizeof what, "coupled, %.1f particles per cell", per_cell);
+    rows.push_back({what, "D2Q7", static_cast<long>(n) * n, b->solid()->particle_count(), with_solid, plain,
+                    static_cast<double>(b->fluid_bytes()), static_cast<double>(b->solid_bytes())});
+  }
+  return rows;
+}
+
+void print_scene_rows(const std::vector<SceneRow>& rows) {
+  std::printf("\nscenes (D2Q7 double, one thread): what the builder adds, and what solids cost\n");
+  std::printf("%-36s %9s %10s %12s %12s %9s %12s %12s %13s\n", "scene", "cells", "particles", "ms/step", "ref ms/step",
+              "ratio", "fluid MiB", "solid MiB", "ns/particle");
+  for (const SceneRow& r : rows) {
+    const bool compared = r.reference_seconds > 0;
+    const double per_particle =
+        r.particles ? 1e9 * (r.step_seconds - (compared && r.cells ? r.reference_seconds : 0)) / r.particles : 0;
+    std::printf("%-36s %9ld %10ld %12.3f %12s %9s %12.2f %12.2f %13s\n", r.what.c_str(), r.cells, r.particles,
+                1e3 * r.step_seconds, compared ? std::to_string(1e3 * r.reference_seconds).substr(0, 7).c_str() : "-",
+                compared ? std::to_string(r.step_seconds / r.reference_seconds).substr(0, 5).c_str() : "-",
+                r.fluid_bytes / 1048576.0, r.solid_bytes / 1048576.0,
+                r.particles ? std::to_string(per_particle).substr(0, 6).c_str() : "-");
+  }
+}
+
+void print_scene_rows_json(const std::vector<SceneRow>& rows) {
+  std::printf("  \"scenes\": [\n");
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const SceneRow& r = rows[k];
+    std::printf("    {\"scene\": \"%s\", \"lattice\": \"%s\", \"cells\": %ld, \"particles\": %ld, \"seconds_per_step\": %.6g, "
+                "\"reference_seconds_per_step\": %.6g, \"fluid_bytes\": %.0f, \"solid_bytes\": %.0f}%s\n",
+                r.what.c_str(), r.lattice.c_str(), r.cells, r.particles, r.step_seconds, r.reference_seconds,
+                r.fluid_bytes, r.solid_bytes, k + 1 < rows.size() ? "," : "");
+  }
+  std::printf("  ]\n");
+}
+
+}  // namespace lbsolid::bench

@@ -1,0 +1,23 @@
+#pragma once
+// Scene-level benchmarks (issue: "simulate only the effects a scene calls for"): what the builder
+// adds to a fluid-only scene, the memory of a solid-only scene, and the cost of coupled steps.
+#include <string>
+#include <vector>
+
+namespace lbsolid::bench {
+
+struct SceneRow {
+  std::string what;    // which measurement
+  std::string lattice;
+  long cells = 0;      // fluid cells (0 without fluid)
+  long particles = 0;  // solid particles
+  double step_seconds = 0;      // best seconds per step
+  double reference_seconds = 0; // the step it is compared with (0 if none)
+  double fluid_bytes = 0, solid_bytes = 0;
+};
+
+std::vector<SceneRow> run_scene_benchmarks(bool quick);
+void print_scene_rows(const std::vector<SceneRow>& rows);
+void print_scene_rows_json(const std::vector<SceneRow>& rows);
+
+}  // namespace lbsolid::bench
