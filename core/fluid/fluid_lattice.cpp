@@ -190,33 +190,49 @@ typename FluidLattice<L, T>::Slot FluidLattice<L, T>::slot(int i, int x, int y, 
 }
 
 template <class L, class T>
-long FluidLattice<L, T>::post_collision_index(int i, int x, int y, int z) const {
-  const long c = cell(x, y, z);
-  if (!in_place()) return i * storage_.stride() + c;  // the buffer just written holds f*_i at c
-  constexpr auto opp = lattice::opposite_table<L>();
-  if (pulled_) return opp[i] * storage_.stride() + c;  // an even step wrote f*_i reversed, locally
-  // An odd step wrote f*_i into the slot it had read population opp(i) from.
-  const auto& s = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)][opp[i]];
-  return opp[s.dir] * storage_.stride() + c + s.delta;
-}
-
-template <class L, class T>
 void FluidLattice<L, T>::add_momentum(int x, int y, int z, const Vec3& dp) {
   if (!stepped_) throw std::logic_error("add_momentum: no step has produced post-collision populations yet");
   T* f = storage_.buffer(in_place() ? 0 : current_);
+  const long c = cell(x, y, z);
+  const long stride = storage_.stride();
+  constexpr auto opp = lattice::opposite_table<L>();
+  const auto& sources = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)];
   for (int i = 0; i < Q; ++i) {
+    // Where the last step stored post-collision population i of this node: the buffer just
+    // written holds it at i (two buffers); an even in-place step wrote it reversed, locally; an
+    // odd one wrote it into the slot it had read population opp(i) from.
+    long index;
+    if (!in_place()) {
+      index = i * stride + c;
+    } else if (pulled_) {
+      index = opp[i] * stride + c;
+    } else {
+      const auto& s = sources[opp[i]];
+      index = opp[s.dir] * stride + c + s.delta;
+    }
     const double c_dot_dp = L::c[i][0] * dp[0] + L::c[i][1] * dp[1] + L::c[i][2] * dp[2];
-    f[post_collision_index(i, x, y, z)] += static_cast<T>(L::w[i] * c_dot_dp / L::cs2);
+    f[index] += static_cast<T>(L::w[i] * c_dot_dp / L::cs2);
   }
 }
 
 template <class L, class T>
 std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
+  // slot() for every direction, with the row plan looked up once (the coupling calls this per
+  // particle per step).
   const T* f = storage_.buffer(in_place() ? 0 : current_);
+  const long c = cell(x, y, z);
+  const long stride = storage_.stride();
   std::array<T, Q> g;
+  if (in_place() && !pulled_) {
+    for (int i = 0; i < Q; ++i) g[i] = f[i * stride + c];
+    return g;
+  }
+  constexpr auto opp = lattice::opposite_table<L>();
+  const auto& sources = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)];
   for (int i = 0; i < Q; ++i) {
-    const Slot s = slot(i, x, y, z);
-    g[i] = f[s.index] + s.correction;
+    const auto& s = sources[i];
+    const int stored_as = in_place() ? opp[s.dir] : s.dir;
+    g[i] = f[stored_as * stride + c + s.delta] + s.correction;
   }
   return g;
 }

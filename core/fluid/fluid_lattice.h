@@ -72,8 +72,6 @@ class FluidLattice {
     T correction;
   };
   Slot slot(int i, int x, int y, int z) const;
-  // Where the last step stored post-collision population i of node (x, y, z).
-  long post_collision_index(int i, int x, int y, int z) const;
   std::array<T, L::Q> gather(int x, int y, int z) const;  // shifted populations at time t
   void check_in_place_slots() const;
 
