@@ -22,7 +22,7 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
     for (int a = 0; a < 3; ++a) centroid[a] += labels[q][a] / static_cast<double>(n);
   }
   const int body = body_count();
-  bodies_.push_back({name, first, n, load});
+  bodies_.push_back({name, first, n, spacing, load});
   for (int q = 0; q < n; ++q) {
     const Label& l = labels[q];
     body_index_.push_back(body);
@@ -36,10 +36,6 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
       const auto it = index.find({l[0] + c[0], l[1] + c[1], l[2] + c[2]});
       neighbours_.push_back(it == index.end() ? -1 : it->second);
       links += it != index.end();
-      Vec3 rest{0, 0, 0};
-      if (it != index.end())
-        for (int a = 0; a < 3; ++a) rest[a] = spacing * c[a];
-      rest_.push_back(rest);
     }
     if (links == 0)
       throw std::invalid_argument("labels: a particle of body '" + name + "' has no neighbour (M = K/2 = 0)");
@@ -75,6 +71,13 @@ void SolidSystem::step(const std::vector<Vec3>& force) {
   incoming_.swap(outgoing_);
 }
 
+Vec3 SolidSystem::rest_separation(int p, int k) const {
+  if (neighbour(p, k) < 0) return {0, 0, 0};
+  const Label c = topology_.link(k);
+  const double spacing = bodies_[body_index_[p]].spacing;
+  return {spacing * c[0], spacing * c[1], spacing * c[2]};
+}
+
 Vec3 SolidSystem::momentum(int p) const {
   Vec3 psi{0, 0, 0};
   for (int k = 0; k < links_; ++k)
@@ -108,7 +111,7 @@ std::size_t SolidSystem::bytes_allocated() const {
   return body_index_.capacity() * sizeof(int) + labels_.capacity() * sizeof(Label) +
          positions_.capacity() * sizeof(Vec3) + mass_.capacity() * sizeof(double) +
          neighbours_.capacity() * sizeof(int) +
-         (incoming_.capacity() + outgoing_.capacity() + rest_.capacity()) * sizeof(Vec3);
+         (incoming_.capacity() + outgoing_.capacity()) * sizeof(Vec3);
 }
 
 }  // namespace lbsolid::solid

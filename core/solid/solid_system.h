@@ -19,7 +19,8 @@ struct Body {
   std::string name;
   int first = 0;  // its particles are [first, first + count)
   int count = 0;
-  Vec3 load{0, 0, 0};  // external force on each particle
+  double spacing = 1.0;  // rest distance between linked particles
+  Vec3 load{0, 0, 0};    // external force on each particle
 };
 
 class SolidSystem {
@@ -48,8 +49,9 @@ class SolidSystem {
   const Vec3& incoming(int p, int k) const { return incoming_[p * links_ + k]; }  // f_k(p)
   Vec3 momentum(int p) const;  // Psi_p = sum_k f_k(p)
   double energy(int p) const;  // E_p = sum_k |f_k(p)|^2 (eq. 9)
-  // Delta0_k(p) fixed at placement: the rest separation from p to its neighbour along link k.
-  const Vec3& rest_separation(int p, int k) const { return rest_[p * links_ + k]; }
+  // Delta0_k(p) fixed at placement: the rest separation from p to its neighbour along link k
+  // (spacing c_k; zero where the link is missing).
+  Vec3 rest_separation(int p, int k) const;
 
   Vec3 total_momentum() const;
   double total_energy() const;
@@ -66,7 +68,6 @@ class SolidSystem {
   std::vector<int> neighbours_;  // [p * links + k]
   std::vector<Vec3> incoming_;   // f_k(p) at time t
   std::vector<Vec3> outgoing_;   // written by step(), then swapped in
-  std::vector<Vec3> rest_;
 };
 
 }  // namespace lbsolid::solid

@@ -156,6 +156,10 @@ int main(int argc, char** argv) {
     std::printf("}\n");
     return 0;
   }
+  if (scenes_only) {
+    print_scene_rows(scene_rows);
+    return 0;
+  }
   std::printf("lbsolid-bench: fused BGK stream-collide, periodic box, in-place (AA) and two-buffer streaming\n");
   std::printf("last-level cache %.0f MiB; working set %.0f MiB per run\n\n", llc / 1048576.0,
               working_set / 1048576.0);

@@ -10,6 +10,7 @@
 #include "lattice/d2q7.h"
 #include "lattice/d2q9.h"
 #include "lattice/d3q19.h"
+#include "observe/fits.h"
 
 namespace lbsolid::testing {
 
@@ -83,21 +84,7 @@ inline double relative_l2(const std::vector<double>& got, const std::vector<doub
   return std::sqrt(num / den);
 }
 
-struct LineFit {
-  double slope, intercept;
-};
-
-inline LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y) {
-  const double n = static_cast<double>(x.size());
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    sx += x[k];
-    sy += y[k];
-    sxx += x[k] * x[k];
-    sxy += x[k] * y[k];
-  }
-  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-  return {slope, (sy - slope * sx) / n};
-}
+// Line fits come from the core's observers, as the service will use them.
+using observe::fit_line;
 
 }  // namespace lbsolid::testing
