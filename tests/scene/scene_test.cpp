@@ -129,5 +129,31 @@ TEST(SimulationBuilder, FluidOnlySceneEqualsBareFluidBitForBit) {
   }
 }
 
+// Observers on a state known exactly: a body moving rigidly through fluid at rest at t = 0.
+TEST(SimulationObservers, ReadTheStateTheyDescribe) {
+  Scene s = channel();
+  s.fluid.rho0 = 1.3;
+  s.bodies.push_back(disk_at(10, 4.5));
+  s.bodies[0].velocity = {0.02, -0.01, 0};
+  s.bodies.push_back(disk_at(4, 4.5));  // at rest: it has no slip to normalise, so only body 0 is read
+  auto sim = build_simulation(s);
+  const BodyState state = sim->body_state(0);
+  EXPECT_NEAR(state.centre_of_mass[0], 10, 1e-14);
+  EXPECT_NEAR(state.centre_of_mass[1], 4.5, 1e-14);
+  EXPECT_NEAR(state.velocity[0], 0.02, 1e-16);
+  EXPECT_NEAR(state.velocity[1], -0.01, 1e-16);
+  // Sum of K/2 over the 13 particles with |l| <= 2: 4 tips (1 link), 4 diagonals (2), 5 others (4).
+  EXPECT_EQ(state.mass, 0.5 * (4 * 1 + 4 * 2 + 5 * 4));
+  EXPECT_NEAR(sim->body_slip(0), 1.0, 1e-15);               // the fluid is at rest: |u_s - 0| / |u_s|
+  const Totals t = sim->totals();
+  EXPECT_NEAR(t.fluid_mass, 1.3 * 20 * 10, 1e-11);
+  EXPECT_NEAR(t.fluid_kinetic_energy, 0.0, 1e-30);
+  EXPECT_NEAR(t.solid_momentum[0], state.mass * 0.02, 1e-16);
+  // E = sum |f|^2 with f = v/2 on each incoming link: M |v|^2 / 2 for a rigid motion.
+  EXPECT_NEAR(t.solid_energy, 0.5 * state.mass * (0.02 * 0.02 + 0.01 * 0.01), 1e-17);
+  EXPECT_THROW(sim->body_state(2), std::out_of_range);
+  for (double u : sim->velocity_profile()) EXPECT_EQ(u, 0.0);
+}
+
 }  // namespace
 }  // namespace lbsolid::scene
