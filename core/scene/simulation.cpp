@@ -35,9 +35,7 @@ class SimulationImpl final : public Simulation {
       exchange_ = std::make_unique<coupling::MomentumExchange>(fluid_->cells(), scene.exchange);
       node_.resize(n);
       cell_.resize(n);
-      psi_.resize(n);
       dp_.resize(n);
-      for (int p = 0; p < n; ++p) mass_.push_back(solid_->mass(p));
     }
     if (scene.contact.enabled) {
       walls_.restitution = scene.contact.restitution;
@@ -52,12 +50,12 @@ class SimulationImpl final : public Simulation {
     const std::vector<coupling::NodeExchange>* exchanged = nullptr;
     if (exchange_) {
       for (int p = 0; p < solid_->particle_count(); ++p) {
-        psi_[p] = solid_->momentum(p);
         node_[p] = locator_.nearest(solid_->position(p));
         cell_[p] = locator_.cell(node_[p]);
       }
       exchanged = &exchange_->compute(
-          node_, cell_, mass_, psi_, [&](const coupling::Node& at) { return fluid_->moments(at[0], at[1], at[2]); }, dp_);
+          node_, cell_, solid_->masses(), solid_->momenta(),
+          [&](const coupling::Node& at) { return fluid_->moments(at[0], at[1], at[2]); }, dp_);
     }
     if (fluid_) {
       fluid_->step();
@@ -97,8 +95,7 @@ class SimulationImpl final : public Simulation {
     std::size_t bytes = solid_->bytes_allocated() + force_.capacity() * sizeof(Vec3);
     if (exchange_)
       bytes += exchange_->bytes_allocated() + node_.capacity() * sizeof(coupling::Node) +
-               cell_.capacity() * sizeof(long) + (psi_.capacity() + dp_.capacity()) * sizeof(Vec3) +
-               mass_.capacity() * sizeof(double);
+               cell_.capacity() * sizeof(long) + dp_.capacity() * sizeof(Vec3);
     return bytes;
   }
 
@@ -162,8 +159,7 @@ class SimulationImpl final : public Simulation {
   // Per-particle scratch, reused every step.
   std::vector<coupling::Node> node_;
   std::vector<long> cell_;
-  std::vector<double> mass_;
-  std::vector<Vec3> psi_, dp_, force_;
+  std::vector<Vec3> dp_, force_;
 };
 
 template <class L>

@@ -49,13 +49,15 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
       incoming_.push_back(neighbours_[p * links_ + topology_.opposite(k)] >= 0 ? half : Vec3{0, 0, 0});
       outgoing_.push_back({0, 0, 0});
     }
+  momentum_.resize(particle_count());
+  update_momentum(first, first + n);
   return body;
 }
 
 void SolidSystem::step(const std::vector<Vec3>& force) {
   const int n = particle_count();
   for (int p = 0; p < n; ++p) {
-    const Vec3 psi = momentum(p);
+    const Vec3& psi = momentum_[p];
     const double inv_m = 1.0 / mass_[p];
     Vec3 base;  // Psi/M + F/(2M): the displacement, and the common part of every outgoing vector
     for (int a = 0; a < 3; ++a) base[a] = (psi[a] + 0.5 * force[p][a]) * inv_m;
@@ -69,6 +71,7 @@ void SolidSystem::step(const std::vector<Vec3>& force) {
     for (int a = 0; a < 3; ++a) positions_[p][a] += base[a];
   }
   incoming_.swap(outgoing_);
+  update_momentum(0, n);
 }
 
 Vec3 SolidSystem::rest_separation(int p, int k) const {
@@ -78,11 +81,13 @@ Vec3 SolidSystem::rest_separation(int p, int k) const {
   return {spacing * c[0], spacing * c[1], spacing * c[2]};
 }
 
-Vec3 SolidSystem::momentum(int p) const {
-  Vec3 psi{0, 0, 0};
-  for (int k = 0; k < links_; ++k)
-    for (int a = 0; a < 3; ++a) psi[a] += incoming_[p * links_ + k][a];
-  return psi;
+void SolidSystem::update_momentum(int first, int end) {
+  for (int p = first; p < end; ++p) {
+    Vec3 psi{0, 0, 0};
+    for (int k = 0; k < links_; ++k)
+      for (int a = 0; a < 3; ++a) psi[a] += incoming_[p * links_ + k][a];
+    momentum_[p] = psi;
+  }
 }
 
 double SolidSystem::energy(int p) const {
@@ -111,7 +116,7 @@ std::size_t SolidSystem::bytes_allocated() const {
   return body_index_.capacity() * sizeof(int) + labels_.capacity() * sizeof(Label) +
          positions_.capacity() * sizeof(Vec3) + mass_.capacity() * sizeof(double) +
          neighbours_.capacity() * sizeof(int) +
-         (incoming_.capacity() + outgoing_.capacity()) * sizeof(Vec3);
+         (incoming_.capacity() + outgoing_.capacity() + momentum_.capacity()) * sizeof(Vec3);
 }
 
 }  // namespace lbsolid::solid

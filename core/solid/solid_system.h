@@ -45,9 +45,11 @@ class SolidSystem {
   const Label& label(int p) const { return labels_[p]; }
   const Vec3& position(int p) const { return positions_[p]; }
   double mass(int p) const { return mass_[p]; }  // K/2
+  const std::vector<double>& masses() const { return mass_; }
+  const std::vector<Vec3>& momenta() const { return momentum_; }
   int neighbour(int p, int k) const { return neighbours_[p * links_ + k]; }  // -1 if missing
   const Vec3& incoming(int p, int k) const { return incoming_[p * links_ + k]; }  // f_k(p)
-  Vec3 momentum(int p) const;  // Psi_p = sum_k f_k(p)
+  const Vec3& momentum(int p) const { return momentum_[p]; }  // Psi_p = sum_k f_k(p), kept current
   double energy(int p) const;  // E_p = sum_k |f_k(p)|^2 (eq. 9)
   // Delta0_k(p) fixed at placement: the rest separation from p to its neighbour along link k
   // (spacing c_k; zero where the link is missing).
@@ -68,6 +70,8 @@ class SolidSystem {
   std::vector<int> neighbours_;  // [p * links + k]
   std::vector<Vec3> incoming_;   // f_k(p) at time t
   std::vector<Vec3> outgoing_;   // written by step(), then swapped in
+  std::vector<Vec3> momentum_;   // Psi of the incoming vectors: read by the exchange, contact and step
+  void update_momentum(int first, int end);
 };
 
 }  // namespace lbsolid::solid

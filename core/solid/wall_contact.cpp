@@ -4,7 +4,7 @@ namespace lbsolid::solid {
 
 void add_wall_contact(const ContactWalls& walls, const SolidSystem& solid, std::vector<Vec3>& force) {
   for (int p = 0; p < solid.particle_count(); ++p) {
-    const Vec3 psi = solid.momentum(p);
+    const Vec3& psi = solid.momentum(p);
     const Vec3& r = solid.position(p);
     const double m = solid.mass(p);
     for (int axis = 0; axis < solid.dimension(); ++axis) {
