@@ -8,6 +8,7 @@
 #include "lattice/d2q7.h"
 #include "lattice/d2q9.h"
 #include "lattice/d3q19.h"
+#include "observe/velocity_profile.h"
 #include "solid/wall_contact.h"
 
 namespace lbsolid::scene {
@@ -100,15 +101,7 @@ class SimulationImpl final : public Simulation {
   }
 
   std::vector<double> velocity_profile() const override {
-    const auto& f = require_fluid("velocity_profile");
-    const auto& c = scene_.fluid;
-    std::vector<double> profile(c.ny, 0.0);
-    for (int y = 0; y < c.ny; ++y) {
-      for (int z = 0; z < c.nz; ++z)
-        for (int x = 0; x < c.nx; ++x) profile[y] += f.velocity(x, y, z)[0];
-      profile[y] /= static_cast<double>(c.nx) * c.nz;
-    }
-    return profile;
+    return observe::velocity_profile(require_fluid("velocity_profile"));
   }
 
   fluid::Moments fluid_moments(int x, int y, int z) const override {

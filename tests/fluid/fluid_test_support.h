@@ -11,6 +11,7 @@
 #include "lattice/d2q9.h"
 #include "lattice/d3q19.h"
 #include "observe/fits.h"
+#include "observe/velocity_profile.h"
 
 namespace lbsolid::testing {
 
@@ -41,18 +42,7 @@ FluidConfig channel_config(int width, WallKind low, WallKind high, double omega 
   return c;
 }
 
-// u_x averaged over each row (x and z), indexed by y.
-template <class F>
-std::vector<double> velocity_profile(const F& fluid) {
-  const auto& c = fluid.config();
-  std::vector<double> profile(c.ny, 0.0);
-  for (int y = 0; y < c.ny; ++y) {
-    for (int z = 0; z < c.nz; ++z)
-      for (int x = 0; x < c.nx; ++x) profile[y] += fluid.velocity(x, y, z)[0];
-    profile[y] /= static_cast<double>(c.nx) * c.nz;
-  }
-  return profile;
-}
+using observe::velocity_profile;  // u_x(y), averaged along x and z
 
 // Steps until the profile changes by less than `tolerance` (max abs) over `interval` steps.
 template <class F>

@@ -56,6 +56,7 @@
 #include "fluid/fluid_test_support.h"
 #include "lattice/d2q7.h"
 #include "observe/fits.h"
+#include "physics/paper_channel.h"
 #include "scene/simulation.h"
 
 namespace lbsolid::scene {
@@ -105,14 +106,7 @@ double chain_area_fraction() {
 }
 
 Scene sheared_channel() {
-  Scene s;
-  s.lattice = LatticeKind::kD2Q7;
-  s.fluid.nx = kChannelLength;
-  s.fluid.ny = kChannelRows;
-  s.fluid.omega = kOmega;
-  s.fluid.rho0 = kRho;
-  s.fluid.sides[fluid::kYLow].kind = fluid::WallKind::kFreeSlip;
-  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kFreeSlip;
+  Scene s = testing::paper_channel(kChannelLength, kChannelRows, fluid::WallKind::kFreeSlip, kOmega, kRho);
   s.fluid.sides[fluid::kYLow].traction = {-kSigma, 0, 0};
   s.fluid.sides[fluid::kYHigh].traction = {kSigma, 0, 0};
   return s;

@@ -23,6 +23,7 @@
 
 #include "fluid/fluid_test_support.h"
 #include "observe/fits.h"
+#include "physics/paper_channel.h"
 #include "scene/simulation.h"
 
 namespace lbsolid::scene {
@@ -59,14 +60,7 @@ solid::BodySpec disk_pulled_by(double load) {
 }
 
 Scene channel_with(const solid::BodySpec& disk) {
-  Scene s;
-  s.lattice = LatticeKind::kD2Q7;
-  s.fluid.nx = kChannelLength;
-  s.fluid.ny = kChannelRows;
-  s.fluid.omega = kOmega;
-  s.fluid.rho0 = kRho;
-  s.fluid.sides[fluid::kYLow].kind = fluid::WallKind::kBounceBack;
-  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kBounceBack;
+  Scene s = testing::paper_channel(kChannelLength, kChannelRows, fluid::WallKind::kBounceBack, kOmega, kRho);
   s.bodies.push_back(disk);
   return s;
 }

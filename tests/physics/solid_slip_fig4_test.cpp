@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "fluid/fluid_test_support.h"
+#include "physics/paper_channel.h"
 #include "scene/simulation.h"
 
 namespace lbsolid::scene {
@@ -20,12 +21,7 @@ namespace {
 using testing::report;
 
 Scene pulled_square(double load) {
-  Scene s;
-  s.lattice = LatticeKind::kD2Q7;
-  s.fluid.nx = 64;
-  s.fluid.ny = 36;
-  s.fluid.omega = 1.0;
-  s.fluid.sides[fluid::kYLow].kind = s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kBounceBack;
+  Scene s = testing::paper_channel(64, 36, fluid::WallKind::kBounceBack);
   solid::BodySpec square;
   square.size = {10, 10, 1};
   square.centre = {20, 0.5 * (s.fluid.ny - 1) * lattice::D2Q7::row_spacing, 0};
@@ -70,9 +66,9 @@ TEST(SolidSlipFig4, FluidInsideAPulledSolidMovesWithIt) {
   double worst_inside = 0;
   for (int x = 0; x < 9; ++x) worst_inside = std::max(worst_inside, column_slip[x]);
   report("mean slip |u_s - u_f|/|u_s|, worst column behind the leading face", worst_inside, 0.05);
-  report("mean slip on the leading face (shown, not bounded)", column_slip[9], 1.0);
+  std::printf("  mean slip on the leading face (not bounded): %.3e\n", column_slip[9]);
   report("mean slip, worst row between the side faces", worst_row, 0.05);
-  report("mean slip on the side faces (shown, not bounded)", std::max(row_slip[0], row_slip[9]), 1.0);
+  std::printf("  mean slip on the side faces (not bounded): %.3e\n", std::max(row_slip[0], row_slip[9]));
   EXPECT_LT(worst_inside, 0.05);
   EXPECT_LT(worst_row, 0.05);
   EXPECT_GT(state.velocity[0], 0.0);

@@ -1,0 +1,21 @@
+#pragma once
+// The velocity profile u_x(y): u_x averaged over each row, along x (and z in 3D), indexed by the
+// row number y (on D2Q7, row y sits at height y sqrt(3)/2).
+#include <vector>
+
+namespace lbsolid::observe {
+
+// `Fluid` is a FluidLattice (config() and velocity(x, y, z)).
+template <class Fluid>
+std::vector<double> velocity_profile(const Fluid& fluid) {
+  const auto& c = fluid.config();
+  std::vector<double> profile(c.ny, 0.0);
+  for (int y = 0; y < c.ny; ++y) {
+    for (int z = 0; z < c.nz; ++z)
+      for (int x = 0; x < c.nx; ++x) profile[y] += fluid.velocity(x, y, z)[0];
+    profile[y] /= static_cast<double>(c.nx) * c.nz;
+  }
+  return profile;
+}
+
+}  // namespace lbsolid::observe
