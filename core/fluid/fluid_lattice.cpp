@@ -85,6 +85,48 @@ void FluidLattice<L, T>::set_threads(int threads) {
 }
 
 template <class L, class T>
+FluidRawState FluidLattice<L, T>::raw_state() const {
+  FluidRawState state;
+  state.steps = steps_;
+  state.current = current_;
+  state.pulled = pulled_;
+  state.stepped = stepped_;
+  state.buffers = in_place() ? 1 : 2;
+  state.cells = cells_;
+  state.populations.reserve(static_cast<std::size_t>(state.buffers) * Q * cells_);
+  for (int b = 0; b < state.buffers; ++b)
+    for (int i = 0; i < Q; ++i) {
+      const T* f = storage_.buffer(b) + i * storage_.stride();
+      state.populations.insert(state.populations.end(), f, f + cells_);
+    }
+  return state;
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::restore_raw_state(const FluidRawState& state) {
+  const int buffers = in_place() ? 1 : 2;
+  if (state.buffers != buffers || state.cells != cells_ ||
+      state.populations.size() != static_cast<std::size_t>(buffers) * Q * cells_)
+    throw std::invalid_argument("fluid state: holds " + std::to_string(state.buffers) + " buffer(s) of " +
+                                std::to_string(state.cells) + " cells (" +
+                                std::to_string(state.populations.size()) + " values); this fluid has " +
+                                std::to_string(buffers) + " of " + std::to_string(cells_) + " cells and " +
+                                std::to_string(Q) + " populations");
+  if (state.current < 0 || state.current >= buffers)
+    throw std::invalid_argument("fluid state: current buffer " + std::to_string(state.current) + " out of range");
+  std::size_t k = 0;
+  for (int b = 0; b < buffers; ++b)
+    for (int i = 0; i < Q; ++i) {
+      T* f = storage_.buffer(b) + i * storage_.stride();
+      for (long c = 0; c < cells_; ++c) f[c] = static_cast<T>(state.populations[k++]);
+    }
+  steps_ = state.steps;
+  current_ = state.current;
+  pulled_ = state.pulled;
+  stepped_ = state.stepped;
+}
+
+template <class L, class T>
 void FluidLattice<L, T>::initialize(const std::function<double(int, int, int)>& density,
                                     const std::function<Vec3(int, int, int)>& velocity) {
   using Collision = BgkCollision<L, T>;

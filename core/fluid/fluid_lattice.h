@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "fluid/fluid_config.h"
 #include "fluid/population_storage.h"
@@ -22,6 +23,19 @@ namespace lbsolid::fluid {
 struct Moments {
   double rho;
   Vec3 u;  // physical velocity (sum f c + F/2) / rho
+};
+
+// Everything a FluidLattice changes as it runs, exactly as stored: restoring it into a lattice built
+// from the same configuration continues the run bit for bit (checkpoints). Populations are kept as
+// double whatever the precision (float -> double -> float is exact).
+struct FluidRawState {
+  long steps = 0;
+  int current = 0;       // two-buffer: the buffer holding time t
+  bool pulled = true;    // in place: the next step is an odd (pulling) step
+  bool stepped = false;  // add_momentum() is allowed
+  int buffers = 0;
+  long cells = 0;
+  std::vector<double> populations;  // [buffer][population][cell], shifted by w_i rho0 as stored
 };
 
 template <class L, class T>
@@ -52,6 +66,10 @@ class FluidLattice {
   // grows by exactly dp and its mass is unchanged. Call between step() and the next step().
   void add_momentum(int x, int y, int z, const Vec3& dp);
   void set_threads(int threads);
+
+  FluidRawState raw_state() const;
+  // Throws std::invalid_argument when the state was not taken from a lattice of this shape.
+  void restore_raw_state(const FluidRawState& state);
 
   // Observers (computed on request).
   Moments moments(int x, int y, int z = 0) const;

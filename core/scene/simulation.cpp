@@ -135,6 +135,52 @@ class SimulationImpl final : public Simulation {
     return t;
   }
 
+  FluidFields fluid_fields() const override {
+    const auto& f = require_fluid("fluid_fields");
+    const auto& c = scene_.fluid;
+    FluidFields fields;
+    fields.shape = {c.nx, c.ny, c.nz};
+    fields.density.reserve(f.cells());
+    fields.velocity.reserve(3 * f.cells());
+    for (int z = 0; z < c.nz; ++z)
+      for (int y = 0; y < c.ny; ++y)
+        for (int x = 0; x < c.nx; ++x) {
+          const auto m = f.moments(x, y, z);
+          fields.density.push_back(m.rho);
+          fields.velocity.insert(fields.velocity.end(), m.u.begin(), m.u.end());
+        }
+    return fields;
+  }
+
+  SimulationState save_state() const override {
+    SimulationState state;
+    state.step = steps_;
+    state.has_fluid = fluid_ != nullptr;
+    if (fluid_) state.fluid = fluid_->raw_state();
+    state.has_solid = solid_ != nullptr;
+    if (solid_) state.solid = solid_->state();
+    return state;
+  }
+
+  void load_state(const SimulationState& state) override {
+    if (state.has_fluid != (fluid_ != nullptr))
+      throw std::invalid_argument(std::string("state: ") + (state.has_fluid ? "has" : "has no") +
+                                  " fluid but the scene " + (fluid_ ? "has one" : "has none"));
+    if (state.has_solid != (solid_ != nullptr))
+      throw std::invalid_argument(std::string("state: ") + (state.has_solid ? "has" : "has no") +
+                                  " bodies but the scene " + (solid_ ? "has some" : "has none"));
+    if (state.step < 0) throw std::invalid_argument("state.step: must not be negative");
+    if (fluid_) fluid_->restore_raw_state(state.fluid);
+    if (solid_) solid_->restore(state.solid);
+    steps_ = state.step;
+  }
+
+  void set_threads(int threads) override {
+    if (threads < 1) throw std::invalid_argument("threads: must be at least 1, got " + std::to_string(threads));
+    if (fluid_) fluid_->set_threads(threads);
+    scene_.fluid.threads = threads;
+  }
+
  private:
   const fluid::FluidLattice<L, T>& require_fluid(const char* what) const {
     if (!fluid_) throw std::logic_error(std::string(what) + ": the scene has no fluid");

@@ -38,6 +38,23 @@ struct Totals {
   }
 };
 
+// Everything a Simulation changes as it runs. With the scene it was built from, it is a complete
+// checkpoint: load_state() into a simulation built from the same scene continues bit for bit.
+struct SimulationState {
+  long step = 0;
+  bool has_fluid = false;
+  fluid::FluidRawState fluid;  // empty without fluid
+  bool has_solid = false;
+  solid::SolidState solid;     // empty without bodies
+};
+
+// Density and velocity at every node, x fastest, then y, then z (C order [z][y][x]).
+struct FluidFields {
+  std::array<int, 3> shape{0, 0, 0};  // nx, ny, nz
+  std::vector<double> density;        // one per node
+  std::vector<double> velocity;       // three per node: u_x, u_y, u_z
+};
+
 class Simulation {
  public:
   virtual ~Simulation() = default;
@@ -65,6 +82,13 @@ class Simulation {
   double body_slip(int body) const;
   // Per particle: u_s = Psi / M.
   Vec3 particle_velocity(int p) const;
+  virtual FluidFields fluid_fields() const = 0;  // requires a fluid
+
+  virtual SimulationState save_state() const = 0;
+  // Throws std::invalid_argument naming what does not match this simulation's scene.
+  virtual void load_state(const SimulationState& state) = 0;
+  // Threads of the fluid kernel (results do not depend on it).
+  virtual void set_threads(int threads) = 0;
 };
 
 // Throws std::invalid_argument listing every problem (validate_scene) if the scene cannot run.

@@ -119,4 +119,15 @@ std::size_t SolidSystem::bytes_allocated() const {
          (incoming_.capacity() + outgoing_.capacity() + momentum_.capacity()) * sizeof(Vec3);
 }
 
+void SolidSystem::restore(const SolidState& state) {
+  const std::size_t n = positions_.size();
+  if (state.positions.size() != n || state.momentum.size() != n || state.incoming.size() != incoming_.size())
+    throw std::invalid_argument("solid state: holds " + std::to_string(state.positions.size()) + " particles and " +
+                                std::to_string(state.incoming.size()) + " link slots; this solid has " +
+                                std::to_string(n) + " and " + std::to_string(incoming_.size()));
+  positions_ = state.positions;
+  incoming_ = state.incoming;
+  momentum_ = state.momentum;
+}
+
 }  // namespace lbsolid::solid

@@ -23,6 +23,14 @@ struct Body {
   Vec3 load{0, 0, 0};    // external force on each particle
 };
 
+// Everything a SolidSystem changes as it runs (the bodies themselves come from their specs):
+// restoring it into a system built from the same bodies continues the run bit for bit.
+struct SolidState {
+  std::vector<Vec3> positions;  // r_p
+  std::vector<Vec3> incoming;   // f_k(p) at [p * links + k]
+  std::vector<Vec3> momentum;   // Psi_p
+};
+
 class SolidSystem {
  public:
   explicit SolidSystem(int dimension);
@@ -57,6 +65,10 @@ class SolidSystem {
 
   Vec3 total_momentum() const;
   double total_energy() const;
+
+  SolidState state() const { return {positions_, incoming_, momentum_}; }
+  // Throws std::invalid_argument when the sizes do not match this system's particles and links.
+  void restore(const SolidState& state);
   std::size_t bytes_allocated() const;
 
  private:

@@ -1,0 +1,57 @@
+// The stability monitor: quiet on a healthy run, and names the quantity and the place when the
+// fluid goes faster than the Mach limit or a value stops being finite.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "observe/stability.h"
+
+namespace lbsolid::observe {
+namespace {
+
+scene::Scene driven_box(double force) {
+  scene::Scene s;
+  s.fluid.nx = 8;
+  s.fluid.ny = 8;
+  s.fluid.body_force = {force, 0, 0};
+  return s;
+}
+
+TEST(StabilityMonitor, QuietWhileTheFlowIsSlow) {
+  auto sim = scene::build_simulation(driven_box(1e-5));
+  sim->run(100);
+  EXPECT_EQ(find_instability(*sim, {}), "");
+}
+
+TEST(StabilityMonitor, NamesTheMachNumberAndTheNode) {
+  // A periodic box under a uniform force accelerates uniformly: u = F t / rho (+ F/2 in the
+  // physical velocity), so after t steps Mach = (t + 1/2) F / c_s, the same at every node.
+  const double force = 1e-3, cs = 1 / std::sqrt(3.0);
+  auto sim = scene::build_simulation(driven_box(force));
+  sim->run(200);  // Mach 0.347
+  EXPECT_EQ(find_instability(*sim, {0.5}), "");
+  sim->run(200);  // Mach 0.694
+  const std::string problem = find_instability(*sim, {0.5});
+  EXPECT_EQ(problem.rfind("Mach number 0.69", 0), 0u) << problem;
+  EXPECT_NE(problem.find("(limit 0.5) at node (0, 0, 0)"), std::string::npos) << problem;
+  EXPECT_NEAR(400.5 * force / cs, 0.6937, 1e-4);  // the figure the message shows
+}
+
+TEST(StabilityMonitor, NamesANonFiniteParticle) {
+  scene::Scene s = driven_box(0);
+  s.with_fluid = false;
+  solid::BodySpec sheet;
+  sheet.name = "sheet";
+  sheet.size = {2, 2, 1};
+  sheet.centre = {4, 4, 0};
+  sheet.load = {1e308, 0, 0};  // finite (validation refuses infinite loads), but overflows in a few steps
+  s.bodies.push_back(sheet);
+  auto sim = scene::build_simulation(s);
+  EXPECT_EQ(find_instability(*sim, {}), "");
+  sim->run(5);
+  EXPECT_EQ(find_instability(*sim, {}).rfind("non-finite", 0), 0u);
+  EXPECT_NE(find_instability(*sim, {}).find("of body sheet"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace lbsolid::observe
