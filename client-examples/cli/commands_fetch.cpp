@@ -1,0 +1,41 @@
+// fetch: the session's current density and velocity, appended as a snapshot to DIR/fields.h5
+// (and DIR/fields.xdmf for ParaView).
+#include <filesystem>
+
+#include "commands.h"
+#include "field_fetch.h"
+#include "json_writer.h"
+#include "rpc_client.h"
+#include "server/storage/field_snapshot.h"
+
+namespace lbsolid::cli {
+
+int cmd_fetch(const CommandLine& line) {
+  const std::string session_id = line.positional.at(0);
+  if (!line.has("out") || line.flags.at("out").empty()) throw UsageError("fetch: --out DIR is required");
+  const std::filesystem::path dir = line.flags.at("out");
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) throw CliError(kExitBadInput, dir.string() + ": " + error.message());
+
+  Daemon daemon(line.global);
+  const FetchedFields fetched = fetch_fields(daemon, session_id);
+  const std::string h5 = (dir / "fields.h5").string();
+  write_field_snapshot(h5, fetched);
+  const std::string xdmf = lbsolid::server::storage::xdmf_path_for(h5);
+  const auto& shape = fetched.fields.shape;
+  emit(line,
+       JsonObject()
+           .string("session_id", session_id)
+           .integer("step", fetched.step)
+           .raw("shape", json_array(std::vector<double>{double(shape[2]), double(shape[1]), double(shape[0])}))
+           .string("file", h5)
+           .string("xdmf", xdmf)
+           .str(),
+       session_id + " step " + std::to_string(fetched.step) + ": appended density and velocity (" +
+           std::to_string(shape[0]) + " x " + std::to_string(shape[1]) + " x " + std::to_string(shape[2]) + ") to " +
+           h5 + " (" + xdmf + ")");
+  return kExitOk;
+}
+
+}  // namespace lbsolid::cli

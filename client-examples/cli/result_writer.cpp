@@ -1,0 +1,84 @@
+#include "result_writer.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+#include "json_writer.h"
+#include "sha256.h"
+
+namespace lbsolid::cli {
+
+std::vector<FileEntry> describe_files(const std::string& dir, const std::vector<std::string>& names) {
+  std::vector<FileEntry> files;
+  for (const auto& name : names) {
+    const std::filesystem::path path = std::filesystem::path(dir) / name;
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error)) continue;
+    files.push_back({name, std::filesystem::file_size(path), sha256_file_hex(path.string())});
+  }
+  std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+  return files;
+}
+
+std::string combined_checksum(std::vector<FileEntry> files) {
+  std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+  Sha256 hash;
+  for (const auto& f : files) hash.update(f.sha256);
+  return hash.hex_digest();
+}
+
+std::string status_json(const RunRecord& r) {
+  std::vector<std::string> files;
+  for (const auto& f : r.files)
+    files.push_back(JsonObject()
+                        .string("name", f.name)
+                        .integer("bytes", static_cast<long long>(f.bytes))
+                        .string("sha256", f.sha256)
+                        .str());
+  return JsonObject()
+      .string("session_id", r.session_id)
+      .string("state", r.state)
+      .integer("step", r.step)
+      .integer("target_step", r.target_step)
+      .string("message", r.message)
+      .string("error", r.error)
+      .raw("files", json_array(files))
+      .string("checksum", combined_checksum(r.files))
+      .integer("exit_code", r.exit_code)
+      .str();
+}
+
+void write_file_atomically(const std::string& path, const std::string& content) {
+  const std::string temporary = path + ".tmp";
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) throw std::runtime_error(temporary + ": cannot create: " + std::strerror(errno));
+  std::size_t written = 0;
+  while (written < content.size()) {
+    const ssize_t n = ::write(fd, content.data() + written, content.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const std::string cause = std::strerror(errno);
+      ::close(fd);
+      std::remove(temporary.c_str());
+      throw std::runtime_error(temporary + ": write failed: " + cause);
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  // fsync before the rename: after a crash the name holds either the old file or all of the new one.
+  const bool synced = ::fsync(fd) == 0;
+  const bool closed = ::close(fd) == 0;
+  if (!synced || !closed || std::rename(temporary.c_str(), path.c_str()) != 0) {
+    const std::string cause = std::strerror(errno);
+    std::remove(temporary.c_str());
+    throw std::runtime_error(path + ": cannot write: " + cause);
+  }
+}
+
+}  // namespace lbsolid::cli

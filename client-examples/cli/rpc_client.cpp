@@ -1,0 +1,48 @@
+#include "rpc_client.h"
+
+#include <chrono>
+#include <cstdint>
+#include <random>
+
+namespace lbsolid::cli {
+
+RpcError::RpcError(const std::string& rpc_name, const grpc::Status& status)
+    : std::runtime_error(rpc_name + ": " + status_code_name(status.error_code()) + ": " +
+                         (status.error_message().empty() ? "(no message)" : status.error_message())),
+      rpc(rpc_name),
+      code(status.error_code()),
+      detail(status.error_message()) {}
+
+Daemon::Daemon(const GlobalOptions& options) : options_(options) {
+  grpc::ChannelArguments args;
+  // Frames of large bodies can exceed gRPC's 4 MiB default; the daemon enforces its own limit
+  // (ServerInfo.max_message_bytes), so the client accepts whatever it sends.
+  args.SetMaxReceiveMessageSize(-1);
+  // Keepalive for streams followed without a deadline: a ping every 5.5 minutes detects a dead
+  // connection without tripping a default server's ping policy (at most one ping per 5 minutes
+  // when it sends no data), which would close the connection with "too many pings".
+  args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, 330'000);
+  args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 20'000);
+  args.SetInt(GRPC_ARG_HTTP2_MAX_PINGS_WITHOUT_DATA, 0);
+  channel_ = grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);
+  stub_ = lbsolid::v1::Simulation::NewStub(channel_);
+}
+
+void Daemon::set_deadline(grpc::ClientContext& context) const {
+  const auto timeout = std::chrono::duration<double>(options_.timeout_s);
+  context.set_deadline(std::chrono::system_clock::now() +
+                       std::chrono::duration_cast<std::chrono::system_clock::duration>(timeout));
+}
+
+std::string random_request_id() {
+  std::random_device device;
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string id;
+  for (int word = 0; word < 4; ++word) {  // 4 x 32 bits from the OS entropy source
+    std::uint32_t bits = device();
+    for (int nibble = 0; nibble < 8; ++nibble, bits >>= 4) id += kHex[bits & 15];
+  }
+  return id;
+}
+
+}  // namespace lbsolid::cli

@@ -1,0 +1,470 @@
+// Scenario (proto) -> core::Scene in three passes:
+//   1. translate, filling the proto's documented defaults and checking what only the message can
+//      say: required fields, unknown enum numbers, fields of another shape, the API's size limits;
+//   2. run the core's validate_scene on the translation (the one source of the physics rules);
+//   3. rewrite each core "<field>: reason" as "scenario.<path>: reason", dropping those that
+//      restate a problem pass 1 already reported on the same field.
+// Every problem is kept: a client fixes a scenario in one round trip, not one per error.
+#include "server/api/scenario_translation.h"
+
+#include <google/protobuf/io/tokenizer.h>
+#include <google/protobuf/text_format.h>
+#include <google/protobuf/util/json_util.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+
+#include "server/api/core_field_paths.h"
+#include "server/api/enum_mapping.h"
+#include "server/api/json_locator.h"
+
+namespace lbsolid::server {
+namespace {
+
+namespace v1 = lbsolid::v1;
+namespace pb = google::protobuf;
+
+// The API's own limits, looser than any machine's memory but tight enough that validating a
+// scenario stays cheap and free of integer overflow in the core's arithmetic.
+constexpr double kMaxNodes = 2147483648.0;        // 2^31 fluid nodes
+constexpr double kMaxBodyParticles = 16777216.0;  // 2^24 labels per body: validation lists them all
+constexpr int kMaxLabelComponent = 1 << 30;       // the core adds +-1 to label components
+// Each fluid thread is an OS thread started when the simulation is built; the core checks only >= 1.
+constexpr int kMaxThreads = 256;
+
+struct Problem {
+  std::string path;  // "scenario.fluid.omega"
+  std::string reason;
+  // Whether the problem also stands for everything under its path (a missing domain covers the
+  // core's "nx: must be at least 1" and "ny: ...").
+  bool covers_subfields = false;
+};
+using Problems = std::vector<Problem>;
+
+std::string number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%g", value);
+  return buffer;
+}
+
+// "unknown value 7; use LATTICE_D2Q9, LATTICE_D2Q7 or LATTICE_D3Q19"
+std::string unknown_enum(const pb::EnumDescriptor* type, int value) {
+  std::vector<std::string> names;
+  for (int v = 0; v < type->value_count(); ++v)
+    if (type->value(v)->number() != 0) names.push_back(type->value(v)->name());
+  std::string list;
+  for (std::size_t n = 0; n < names.size(); ++n)
+    list += (n == 0 ? "" : n + 1 == names.size() ? " or " : ", ") + names[n];
+  return "unknown value " + std::to_string(value) + "; use " + list;
+}
+
+// An unknown number (proto3 keeps those) is reported and passed on as the same number, which the
+// core's own checks then reject too (on the same field, so that report is dropped).
+template <class Core, class Proto>
+Core enum_or_report(std::optional<Core> mapped, Proto value, const pb::EnumDescriptor* type,
+                    const std::string& path, Problems& problems) {
+  if (mapped) return *mapped;
+  problems.push_back({path, unknown_enum(type, value)});
+  return static_cast<Core>(value);
+}
+
+// ---- Message fields. `dimension` is 2 or 3, or 0 when the lattice is unknown (then nothing that
+// depends on it is checked, and the core is not asked).
+
+// The proto documents z as ignored in 2D, so it is dropped here rather than reported.
+fluid::Vec3 vec(const v1::Vector3& v, int dimension) { return {v.x(), v.y(), dimension == 2 ? 0.0 : v.z()}; }
+
+bool nonzero(const v1::Vector3& v) { return v.x() != 0 || v.y() != 0 || v.z() != 0; }
+
+void translate_domain(const v1::Scenario& in, int dimension, scene::Scene& out, Problems& problems) {
+  const v1::Domain& d = in.domain();
+  fluid::FluidConfig& f = out.fluid;
+  f.nx = d.nx();
+  f.ny = d.ny();
+  f.nz = d.has_nz() ? d.nz() : 1;
+  if (!in.has_domain()) {
+    problems.push_back({"scenario.domain", "required: the box's nodes along x and y (nx, ny >= 1)", true});
+  } else {
+    const int n[3] = {f.nx, f.ny, f.nz};
+    bool sized = true;
+    for (int a = 0; a < 3; ++a) {
+      if (n[a] >= 1) continue;
+      problems.push_back(
+          {std::string("scenario.domain.n") + "xyz"[a], "must be at least 1, got " + std::to_string(n[a])});
+      sized = false;
+    }
+    if (dimension == 2 && f.nz > 1) {
+      problems.push_back({"scenario.domain.nz", std::string("must be 1 on a 2D lattice (") +
+                                                    scene::lattice_kind_name(out.lattice) + "), got " +
+                                                    std::to_string(f.nz)});
+      sized = false;
+    }
+    // In double: the product of three int32 can overflow 64 bits.
+    const double nodes = static_cast<double>(f.nx) * f.ny * f.nz;
+    if (sized && nodes > kMaxNodes) {
+      problems.push_back({"scenario.domain", std::to_string(f.nx) + " x " + std::to_string(f.ny) + " x " +
+                                                 std::to_string(f.nz) + " = " + number(nodes) +
+                                                 " nodes, more than the limit of 2^31 (2147483648)"});
+    }
+  }
+  const v1::Side* sides[6] = {&d.x_low(), &d.x_high(), &d.y_low(), &d.y_high(), &d.z_low(), &d.z_high()};
+  for (int s = 0; s < 6; ++s) {
+    const std::string path = std::string("scenario.domain.") + fluid::side_name(s);
+    fluid::SideBoundary& side = f.sides[s];
+    side.kind = enum_or_report(wall_kind_of(sides[s]->kind()), sides[s]->kind(), v1::WallKind_descriptor(),
+                               path + ".kind", problems);
+    side.wall_velocity = vec(sides[s]->wall_velocity(), dimension);
+    side.traction = vec(sides[s]->traction(), dimension);
+    // The core skips the z sides of a 2D lattice (it rejects only their kind); a vector set there
+    // would be silently lost.
+    if (dimension == 2 && s >= fluid::kZLow) {
+      if (nonzero(sides[s]->wall_velocity()))
+        problems.push_back({path + ".wall_velocity", "a 2D lattice has no z sides"});
+      if (nonzero(sides[s]->traction())) problems.push_back({path + ".traction", "a 2D lattice has no z sides"});
+    }
+  }
+}
+
+void translate_fluid(const v1::Fluid& in, int dimension, scene::Scene& out, Problems& problems) {
+  out.with_fluid = !in.has_enabled() || in.enabled();
+  fluid::FluidConfig& f = out.fluid;
+  f.omega = in.has_omega() ? in.omega() : 1.0;
+  f.rho0 = in.has_rho0() ? in.rho0() : 1.0;
+  f.body_force = vec(in.body_force(), dimension);
+  f.threads = in.has_threads() ? in.threads() : 1;
+  if (f.threads > kMaxThreads)
+    problems.push_back({"scenario.fluid.threads", "must be at most " + std::to_string(kMaxThreads) + ", got " +
+                                                      std::to_string(f.threads)});
+  f.streaming = enum_or_report(streaming_of(in.streaming()), in.streaming(), v1::Streaming_descriptor(),
+                               "scenario.fluid.streaming", problems);
+}
+
+// ---- Bodies.
+
+struct TranslatedBody {
+  solid::BodySpec spec;
+  // False when the core must not see the body: no shape to check, or one too large to list.
+  bool core_can_check = true;
+};
+
+std::string axes_named(int dimension) { return dimension == 3 ? "x, y and z" : "x and y"; }
+
+bool translate_rectangle(const v1::Body& in, const std::string& path, int dimension, solid::BodySpec& spec,
+                         Problems& problems) {
+  if (dimension == 0) return false;
+  if (in.size_size() != dimension) {
+    problems.push_back({path + ".size", "a rectangle needs " + std::to_string(dimension) + " values (particles along " +
+                                            axes_named(dimension) + "), got " + std::to_string(in.size_size())});
+    return false;
+  }
+  double particles = 1;
+  bool positive = true;
+  for (int a = 0; a < dimension; ++a) {
+    spec.size[a] = in.size(a);
+    positive = positive && spec.size[a] >= 1;
+    particles *= spec.size[a];
+  }
+  spec.size[2] = dimension == 3 ? in.size(2) : 1;
+  if (positive && particles > kMaxBodyParticles) {
+    problems.push_back({path + ".size", number(particles) + " particles, more than the limit of 2^24 per body"});
+    return false;
+  }
+  return true;  // extents below 1 are the core's to report
+}
+
+bool translate_disk(const v1::Body& in, const std::string& path, int dimension, solid::BodySpec& spec,
+                    Problems& problems) {
+  spec.radius = in.radius();
+  if (!std::isfinite(spec.radius)) {
+    problems.push_back({path + ".radius", "must be a finite number, got " + number(spec.radius)});
+    return false;
+  }
+  if (dimension == 0) return false;
+  // The core tries every label of the (2r + 1)^D cube around the centre.
+  const double candidates = std::pow(2 * std::floor(std::max(spec.radius, 0.0)) + 1, dimension);
+  if (candidates > kMaxBodyParticles) {
+    problems.push_back({path + ".radius", "a disk of radius " + number(spec.radius) + " spans " + number(candidates) +
+                                              " labels, more than the limit of 2^24 per body"});
+    return false;
+  }
+  return true;
+}
+
+bool translate_chain(const v1::Body& in, const std::string& path, int dimension, solid::BodySpec& spec,
+                     Problems& problems) {
+  spec.length = in.length();
+  const std::optional<int> axis = axis_of(in.axis());
+  if (!axis) problems.push_back({path + ".axis", unknown_enum(v1::Axis_descriptor(), in.axis())});
+  // -1 for an unknown axis: the core rejects it too, on the same field.
+  spec.axis = axis.value_or(-1);
+  if (dimension == 2 && spec.axis == 2)
+    problems.push_back({path + ".axis", "AXIS_Z on a 2D lattice; use AXIS_X or AXIS_Y"});
+  if (spec.length > kMaxBodyParticles) {
+    problems.push_back(
+        {path + ".length", std::to_string(spec.length) + " particles, more than the limit of 2^24 per body"});
+    return false;
+  }
+  return true;
+}
+
+bool translate_labels(const v1::Body& in, const std::string& path, solid::BodySpec& spec, Problems& problems) {
+  if (in.labels_size() > kMaxBodyParticles) {
+    problems.push_back(
+        {path + ".labels", std::to_string(in.labels_size()) + " particles, more than the limit of 2^24 per body"});
+    return false;
+  }
+  bool in_range = true;
+  for (int n = 0; n < in.labels_size(); ++n) {
+    const v1::Label& l = in.labels(n);
+    spec.labels.push_back({l.i(), l.j(), l.k()});
+    for (int c : {l.i(), l.j(), l.k()}) {
+      if (std::abs(static_cast<long long>(c)) < kMaxLabelComponent) continue;
+      problems.push_back({path + ".labels[" + std::to_string(n) + "]", "components must lie within +-2^30"});
+      in_range = false;
+      break;
+    }
+  }
+  return in_range;
+}
+
+// A field of another shape is a mistake (a radius on a rectangle means the shape is wrong).
+void reject_other_shapes_fields(const v1::Body& in, const std::string& path, Problems& problems) {
+  const std::string shape = v1::BodyShape_Name(in.shape());
+  auto reject_unless = [&](bool set, v1::BodyShape owner, const char* field) {
+    if (set && in.shape() != owner)
+      problems.push_back({path + "." + field, "is only used by " + v1::BodyShape_Name(owner) + ", not " + shape});
+  };
+  reject_unless(in.size_size() > 0, v1::BODY_SHAPE_RECTANGLE, "size");
+  reject_unless(in.radius() != 0, v1::BODY_SHAPE_DISK, "radius");
+  reject_unless(in.length() != 0, v1::BODY_SHAPE_CHAIN, "length");
+  reject_unless(in.axis() != v1::AXIS_UNSPECIFIED, v1::BODY_SHAPE_CHAIN, "axis");
+  reject_unless(in.labels_size() > 0, v1::BODY_SHAPE_LABELS, "labels");
+}
+
+TranslatedBody translate_body(const v1::Body& in, int index, int dimension, Problems& problems) {
+  const std::string path = "scenario.bodies[" + std::to_string(index) + "]";
+  TranslatedBody out;
+  solid::BodySpec& spec = out.spec;
+  spec.name = in.name().empty() ? "body" + std::to_string(index) : in.name();
+  spec.spacing = in.has_spacing() ? in.spacing() : 1.0;
+  spec.centre = vec(in.centre(), dimension);
+  spec.velocity = vec(in.velocity(), dimension);
+  spec.load = vec(in.load(), dimension);
+  switch (in.shape()) {
+    case v1::BODY_SHAPE_RECTANGLE:
+      spec.shape = solid::BodyShape::kRectangle;
+      out.core_can_check = translate_rectangle(in, path, dimension, spec, problems);
+      break;
+    case v1::BODY_SHAPE_DISK:
+      spec.shape = solid::BodyShape::kDisk;
+      out.core_can_check = translate_disk(in, path, dimension, spec, problems);
+      break;
+    case v1::BODY_SHAPE_CHAIN:
+      spec.shape = solid::BodyShape::kChain;
+      out.core_can_check = translate_chain(in, path, dimension, spec, problems);
+      break;
+    case v1::BODY_SHAPE_LABELS:
+      spec.shape = solid::BodyShape::kLabels;
+      out.core_can_check = translate_labels(in, path, spec, problems);
+      break;
+    case v1::BODY_SHAPE_UNSPECIFIED:
+      problems.push_back({path + ".shape", "required (rectangle, disk, chain or labels)"});
+      out.core_can_check = false;
+      return out;
+    default:
+      problems.push_back({path + ".shape", unknown_enum(v1::BodyShape_descriptor(), in.shape())});
+      out.core_can_check = false;
+      return out;
+  }
+  reject_other_shapes_fields(in, path, problems);
+  return out;
+}
+
+// ---- The rest of the message.
+
+void translate_contact_and_exchange(const v1::Scenario& in, scene::Scene& out, Problems& problems) {
+  const v1::Contact& c = in.contact();
+  out.contact.enabled = !c.has_enabled() || c.enabled();
+  out.contact.restitution = c.has_restitution() ? c.restitution() : 1.0;
+  out.exchange = enum_or_report(exchange_of(in.exchange()), in.exchange(), v1::ExchangeRule_descriptor(),
+                                "scenario.exchange", problems);
+}
+
+StabilityCheck translate_stability(const v1::Stability& in, Problems& problems) {
+  StabilityCheck check;
+  check.interval = in.has_check_interval() ? in.check_interval() : 100;
+  check.limits.max_mach = in.has_max_mach() ? in.max_mach() : 0.5;
+  if (check.interval < 1)
+    problems.push_back(
+        {"scenario.stability.check_interval", "must be at least 1, got " + std::to_string(check.interval)});
+  if (!(check.limits.max_mach > 0) || !std::isfinite(check.limits.max_mach))
+    problems.push_back(
+        {"scenario.stability.max_mach", "must be a positive finite number, got " + number(check.limits.max_mach)});
+  return check;
+}
+
+// ---- The core's errors, on proto paths.
+
+Problem from_core(const std::string& message, const std::vector<int>& original) {
+  const std::size_t colon = message.find(": ");
+  const auto path = colon == std::string::npos ? std::nullopt : core_field_path(message.substr(0, colon), original);
+  // A field this table does not know yet keeps the core's whole message rather than being lost.
+  if (!path) return {"scenario", message};
+  return {*path, message.substr(colon + 2)};
+}
+
+// `inner` lies below `outer`: "scenario.domain.nx" below "scenario.domain".
+bool below(const std::string& inner, const std::string& outer) {
+  return inner.size() > outer.size() && inner.starts_with(outer) &&
+         (inner[outer.size()] == '.' || inner[outer.size()] == '[');
+}
+
+// The core restates a message-level problem when it names the same field, a field that contains
+// it (its "bodies: a scene without fluid needs a body" when a listed body could not be checked),
+// or a field a covering problem stands for.
+bool restates(const Problem& core, const Problems& message_level) {
+  return std::any_of(message_level.begin(), message_level.end(), [&](const Problem& p) {
+    return core.path == p.path || below(p.path, core.path) || (p.covers_subfields && below(core.path, p.path));
+  });
+}
+
+// The copy the core checks: only the bodies it can list, and no arithmetic it would overflow.
+scene::Scene checkable_copy(const scene::Scene& scene, const std::vector<bool>& core_can_check,
+                            std::vector<int>& original) {
+  scene::Scene copy = scene;
+  copy.bodies.clear();
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    if (!core_can_check[b]) continue;
+    solid::BodySpec spec = scene.bodies[b];
+    // The core multiplies the extents in int. Positive extents were bounded in pass 1; with one
+    // below 1 the product is unbounded, so every extent is squeezed into [0, 1]: the core, which
+    // prints no extent, then reports the same problems without the overflow.
+    if (std::any_of(spec.size.begin(), spec.size.end(), [](int extent) { return extent < 1; }))
+      for (int& extent : spec.size) extent = std::clamp(extent, 0, 1);
+    copy.bodies.push_back(spec);
+    original.push_back(static_cast<int>(b));
+  }
+  // The core multiplies nx*ny*nz in 64 bits; a grid that large is already reported (over 2^31).
+  fluid::FluidConfig& f = copy.fluid;
+  if (static_cast<double>(f.nx) * f.ny * f.nz > 1e18) {
+    for (int* n : {&f.nx, &f.ny, &f.nz}) *n = std::min(*n, 1 << 20);
+  }
+  return copy;
+}
+
+void add_core_problems(const scene::Scene& scene, const std::vector<bool>& core_can_check, Problems& problems) {
+  std::vector<int> original;
+  const scene::Scene copy = checkable_copy(scene, core_can_check, original);
+  const Problems message_level = problems;
+  for (const std::string& message : scene::validate_scene(copy)) {
+    Problem problem = from_core(message, original);
+    if (!restates(problem, message_level)) problems.push_back(std::move(problem));
+  }
+}
+
+// ---- Text.
+
+class CollectErrors : public pb::io::ErrorCollector {
+ public:
+  void AddError(int line, pb::io::ColumnNumber column, const std::string& message) override {
+    if (!text_.empty()) text_ += "; ";
+    // protobuf counts from 0 (and gives -1 where it has no position).
+    text_ += "line " + std::to_string(std::max(line, 0) + 1) + " column " + std::to_string(std::max(column, 0) + 1) +
+             ": " + message;
+  }
+  const std::string& text() const { return text_; }
+
+ private:
+  std::string text_;
+};
+
+// The field a JsonStringToMessage error is about, as a dotted path: "(domain.nx): invalid value
+// ...", "(domain) bogus: Cannot find field." or "bogus: Cannot find field."; empty when it names none.
+std::string json_error_field(const std::string& message) {
+  std::string parent, rest = message;
+  if (message.starts_with("(")) {
+    const std::size_t close = message.find(')');
+    if (close == std::string::npos) return "";
+    parent = message.substr(1, close - 1);
+    rest = message.substr(close + 1);
+    if (!rest.starts_with(" ")) return parent;  // "(domain.nx): ..." names the field itself
+    rest.erase(0, 1);
+  }
+  const std::size_t colon = rest.find(':');
+  const std::string name = colon == std::string::npos ? "" : rest.substr(0, colon);
+  if (name.empty() || name.find_first_of(" \n") != std::string::npos) return parent;
+  return parent.empty() ? name : parent + "." + name;
+}
+
+bool parse_json(const std::string& text, v1::Scenario* scenario, std::string* error) {
+  json::Locator locator(text);
+  if (!locator.check_syntax(error)) return false;
+  pb::util::JsonParseOptions options;  // an unknown field is an error, as in text format
+  const auto status = pb::util::JsonStringToMessage(text, scenario, options);
+  if (status.ok()) return true;
+  const std::string message(status.message());
+  *error = locator.where(json_error_field(message)) + ": " + message;
+  return false;
+}
+
+}  // namespace
+
+TranslatedScenario translate_scenario(const lbsolid::v1::Scenario& in) {
+  TranslatedScenario out;
+  Problems problems;
+  const std::optional<scene::LatticeKind> lattice = lattice_of(in.lattice());
+  out.scene.lattice = enum_or_report(lattice, in.lattice(), v1::Lattice_descriptor(), "scenario.lattice", problems);
+  const int dimension = lattice ? scene::lattice_dimension(*lattice) : 0;
+  out.scene.precision = enum_or_report(precision_of(in.precision()), in.precision(), v1::Precision_descriptor(),
+                                       "scenario.precision", problems);
+  translate_domain(in, dimension, out.scene, problems);
+  translate_fluid(in.fluid(), dimension, out.scene, problems);
+  std::vector<bool> core_can_check;
+  for (int b = 0; b < in.bodies_size(); ++b) {
+    TranslatedBody body = translate_body(in.bodies(b), b, dimension, problems);
+    out.scene.bodies.push_back(std::move(body.spec));
+    core_can_check.push_back(body.core_can_check);
+  }
+  translate_contact_and_exchange(in, out.scene, problems);
+  out.stability = translate_stability(in.stability(), problems);
+  // With no lattice the core checks nothing but the lattice, which is already reported.
+  if (lattice) add_core_problems(out.scene, core_can_check, problems);
+  for (const Problem& p : problems) {
+    // The core repeats a message once per offending axis ("size: every extent must be at least 1").
+    std::string text = p.path + ": " + p.reason;
+    if (std::find(out.errors.begin(), out.errors.end(), text) == out.errors.end())
+      out.errors.push_back(std::move(text));
+  }
+  return out;
+}
+
+bool parse_scenario_text(const std::string& text, lbsolid::v1::Scenario* scenario, std::string* error) {
+  scenario->Clear();
+  std::string ignored;
+  if (!error) error = &ignored;
+  const std::size_t first = text.find_first_not_of(" \t\r\n\f\v");
+  bool parsed;
+  if (first != std::string::npos && text[first] == '{') {
+    parsed = parse_json(text, scenario, error);
+  } else {
+    CollectErrors errors;
+    pb::TextFormat::Parser parser;
+    parser.RecordErrorsTo(&errors);
+    parsed = parser.ParseFromString(text, scenario);
+    if (!parsed)
+      *error = errors.text().empty() ? "line 1 column 1: not a scenario in protobuf text format" : errors.text();
+  }
+  // A half-read scenario is of no use to anyone; leave nothing behind.
+  if (!parsed) scenario->Clear();
+  return parsed;
+}
+
+std::string scenario_to_text(const lbsolid::v1::Scenario& scenario) {
+  std::string text;
+  pb::TextFormat::PrintToString(scenario, &text);
+  return text;
+}
+
+}  // namespace lbsolid::server

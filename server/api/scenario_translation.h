@@ -1,0 +1,38 @@
+#pragma once
+// The one place where the API's Scenario (proto/lbsolid/v1/scenario.proto) becomes a core::Scene.
+// Defaults of absent optional fields are filled in here; every problem, whether found in the
+// message itself (an unspecified body shape, a size with the wrong number of values) or by the
+// core's validation, is reported with the field's full path in the message:
+//   "scenario.fluid.omega: must lie in (0, 2), got 2.5"
+//   "scenario.bodies[0].centre: particle at (10, -1) lies on or beyond the y_low wall (at -0.433)"
+#include <string>
+#include <vector>
+
+#include "lbsolid/v1/scenario.pb.h"
+#include "observe/stability.h"
+#include "scene/scene.h"
+
+namespace lbsolid::server {
+
+struct StabilityCheck {
+  int interval = 100;                  // steps between checks
+  observe::StabilityLimits limits;     // max_mach default 0.5
+};
+
+struct TranslatedScenario {
+  scene::Scene scene;
+  StabilityCheck stability;
+  std::vector<std::string> errors;  // empty when the scene can be built
+  bool ok() const { return errors.empty(); }
+};
+
+TranslatedScenario translate_scenario(const lbsolid::v1::Scenario& scenario);
+
+// Parses a scenario file's text: protobuf text format, or JSON of the same message when the first
+// non-blank character is '{'. Returns false with "line L column C: reason" in *error.
+bool parse_scenario_text(const std::string& text, lbsolid::v1::Scenario* scenario, std::string* error);
+
+// Protobuf text format of the scenario (what checkpoints and H5MD files store).
+std::string scenario_to_text(const lbsolid::v1::Scenario& scenario);
+
+}  // namespace lbsolid::server

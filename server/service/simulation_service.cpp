@@ -1,0 +1,275 @@
+#include "server/service/simulation_service.h"
+
+#include <spdlog/spdlog.h>
+
+#include <bit>
+#include <chrono>
+#include <cstring>
+
+#include "absl/strings/str_cat.h"
+
+namespace lbsolid::server {
+
+namespace {
+
+using std::chrono::milliseconds;
+
+constexpr long kDefaultChunkBytes = 1L << 20;
+constexpr long kMinChunkBytes = 1L << 10;
+constexpr long kMaxChunkBytes = 3L << 20;  // leaves room under the 4 MiB message limit
+
+grpc::Status to_grpc(const absl::Status& status) {
+  if (status.ok()) return grpc::Status::OK;
+  return grpc::Status(static_cast<grpc::StatusCode>(status.code()), std::string(status.message()));
+}
+
+grpc::Status invalid(const std::string& message) { return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, message); }
+
+grpc::Status require_id(const std::string& id) {
+  return id.empty() ? invalid("session_id: required") : grpc::Status::OK;
+}
+
+absl::StatusOr<Delivery> delivery_of(v1::DeliveryMode mode) {
+  switch (mode) {
+    case v1::DELIVERY_MODE_UNSPECIFIED:
+    case v1::DELIVERY_MODE_LATEST_FRAME: return Delivery::kLatestFrame;
+    case v1::DELIVERY_MODE_EVERY_FRAME: return Delivery::kEveryFrame;
+    default: return absl::InvalidArgumentError(absl::StrCat("delivery: unknown mode ", static_cast<int>(mode)));
+  }
+}
+
+// Sends what a channel yields until it ends, the client cancels or the daemon stops.
+template <class Message, class Channel>
+grpc::Status pump(grpc::ServerContext* context, Channel& channel, grpc::ServerWriter<Message>* writer) {
+  bool finished = false;
+  while (!context->IsCancelled()) {
+    auto message = channel.next(milliseconds(100), &finished);
+    if (message) {
+      if (!writer->Write(*message)) break;
+    } else if (finished) {
+      return grpc::Status::OK;
+    }
+  }
+  return grpc::Status(grpc::StatusCode::CANCELLED, "the stream was cancelled");
+}
+
+}  // namespace
+
+grpc::Status SimulationService::CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest* request,
+                                              v1::Session* response) {
+  if (!request->has_scenario()) return invalid("scenario: required");
+  auto session = manager_.create(request->scenario(), request->request_id());
+  if (!session.ok()) {
+    spdlog::warn("CreateSession refused: {}", std::string(session.status().message()));
+    return to_grpc(session.status());
+  }
+  *response = (*session)->describe();
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::GetSession(grpc::ServerContext*, const v1::GetSessionRequest* request,
+                                           v1::Session* response) {
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  auto session = manager_.find(request->session_id());
+  if (!session.ok()) return to_grpc(session.status());
+  *response = (*session)->describe();
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::ListSessions(grpc::ServerContext*, const v1::ListSessionsRequest*,
+                                             v1::ListSessionsResponse* response) {
+  for (const auto& session : manager_.list()) *response->add_sessions() = session->describe();
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::DeleteSession(grpc::ServerContext*, const v1::DeleteSessionRequest* request,
+                                              v1::DeleteSessionResponse*) {
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  return to_grpc(manager_.remove(request->session_id()));
+}
+
+grpc::Status SimulationService::Run(grpc::ServerContext*, const v1::RunRequest* request, v1::Session* response) {
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  if (request->steps() < 1) return invalid(absl::StrCat("steps: must be at least 1, got ", request->steps()));
+  if (auto status = manager_.run(request->session_id(), request->steps()); !status.ok()) return to_grpc(status);
+  auto session = manager_.find(request->session_id());
+  if (!session.ok()) return to_grpc(session.status());
+  *response = (*session)->describe();
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::Step(grpc::ServerContext* context, const v1::StepRequest* request,
+                                     v1::StepResponse* response) {
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  const long most = manager_.limits().max_sync_steps;
+  if (request->steps() < 1 || request->steps() > most)
+    return invalid(absl::StrCat("steps: must lie in [1, ", most, "] for Step (use Run for more), got ", request->steps()));
+  auto session = manager_.find(request->session_id());
+  if (!session.ok()) return to_grpc(session.status());
+  auto result = (*session)->step_now(request->steps(), context->deadline());
+  if (!result.ok()) return to_grpc(result.status());
+  response->set_steps_taken(result->steps_taken);
+  response->set_deadline_reached(result->deadline_reached);
+  *response->mutable_session() = (*session)->describe();
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::Pause(grpc::ServerContext*, const v1::PauseRequest* request, v1::Session* response) {
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  auto session = manager_.find(request->session_id());
+  if (!session.ok()) return to_grpc(session.status());
+  if (auto status = (*session)->pause(); !status.ok()) return to_grpc(status);
+  *response = (*session)->describe();
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::Resume(grpc::ServerContext*, const v1::ResumeRequest* request, v1::Session* response) {
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  if (auto status = manager_.resume(request->session_id()); !status.ok()) return to_grpc(status);
+  auto session = manager_.find(request->session_id());
+  if (!session.ok()) return to_grpc(session.status());
+  *response = (*session)->describe();
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::Cancel(grpc::ServerContext*, const v1::CancelRequest* request, v1::Session* response) {
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  auto session = manager_.find(request->session_id());
+  if (!session.ok()) return to_grpc(session.status());
+  if (auto status = (*session)->cancel(); !status.ok()) return to_grpc(status);
+  *response = (*session)->describe();
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::WatchSession(grpc::ServerContext* context, const v1::WatchSessionRequest* request,
+                                             grpc::ServerWriter<v1::SessionEvent>* writer) {
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  double interval = request->progress_interval_s();
+  if (interval == 0) interval = 1.0;
+  if (!(interval >= 0.05))
+    return invalid(absl::StrCat("progress_interval_s: must be at least 0.05, got ", request->progress_interval_s()));
+  auto session = manager_.find(request->session_id());
+  if (!session.ok()) return to_grpc(session.status());
+  auto channel = (*session)->watch_events(milliseconds(static_cast<long>(interval * 1000)));
+  return pump(context, *channel, writer);
+}
+
+grpc::Status SimulationService::WatchProfiles(grpc::ServerContext* context, const v1::WatchProfilesRequest* request,
+                                              grpc::ServerWriter<v1::ProfileFrame>* writer) {
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  if (request->every() < 1) return invalid(absl::StrCat("every: must be at least 1, got ", request->every()));
+  const auto delivery = delivery_of(request->delivery());
+  if (!delivery.ok()) return to_grpc(delivery.status());
+  auto session = manager_.find(request->session_id());
+  if (!session.ok()) return to_grpc(session.status());
+  auto channel = (*session)->watch_profiles(request->every(), *delivery);
+  if (!channel.ok()) return to_grpc(channel.status());
+  const auto status = pump(context, **channel, writer);
+  (*channel)->detach();
+  return status;
+}
+
+grpc::Status SimulationService::WatchParticles(grpc::ServerContext* context, const v1::WatchParticlesRequest* request,
+                                               grpc::ServerWriter<v1::ParticleFrame>* writer) {
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  if (request->every() < 1) return invalid(absl::StrCat("every: must be at least 1, got ", request->every()));
+  const auto delivery = delivery_of(request->delivery());
+  if (!delivery.ok()) return to_grpc(delivery.status());
+  auto session = manager_.find(request->session_id());
+  if (!session.ok()) return to_grpc(session.status());
+  const std::vector<std::string> bodies(request->bodies().begin(), request->bodies().end());
+  auto channel = (*session)->watch_particles(request->every(), *delivery, bodies);
+  if (!channel.ok()) return to_grpc(channel.status());
+  const auto status = pump(context, **channel, writer);
+  (*channel)->detach();
+  return status;
+}
+
+grpc::Status SimulationService::GetField(grpc::ServerContext* context, const v1::GetFieldRequest* request,
+                                         grpc::ServerWriter<v1::FieldMessage>* writer) {
+  static_assert(std::endian::native == std::endian::little, "field chunks are sent as the machine stores them");
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  long chunk = request->chunk_bytes() == 0 ? kDefaultChunkBytes : request->chunk_bytes();
+  if (chunk < kMinChunkBytes || chunk > kMaxChunkBytes)
+    return invalid(absl::StrCat("chunk_bytes: must lie in [", kMinChunkBytes, ", ", kMaxChunkBytes, "], got ",
+                                request->chunk_bytes()));
+  std::vector<std::string> names(request->fields().begin(), request->fields().end());
+  if (names.empty()) names = {"density", "velocity"};
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (names[k] != "density" && names[k] != "velocity")
+      return invalid(absl::StrCat("fields[", k, "]: unknown field \"", names[k], "\"; use density or velocity"));
+  auto session = manager_.find(request->session_id());
+  if (!session.ok()) return to_grpc(session.status());
+  auto data = (*session)->fields();
+  if (!data.ok()) return to_grpc(data.status());
+  const auto& shape = data->fields.shape;
+  for (const auto& name : names) {
+    const bool vector = name == "velocity";
+    const auto& values = vector ? data->fields.velocity : data->fields.density;
+    v1::FieldMessage header_message;
+    auto* header = header_message.mutable_header();
+    header->set_name(name);
+    for (long extent : {static_cast<long>(shape[2]), static_cast<long>(shape[1]), static_cast<long>(shape[0])})
+      header->add_shape(extent);
+    if (vector) header->add_shape(3);
+    header->set_dtype("float64");
+    header->set_step(data->step);
+    header->set_total_bytes(static_cast<long>(values.size() * sizeof(double)));
+    header->mutable_spacing()->set_x(data->spacing[0]);
+    header->mutable_spacing()->set_y(data->spacing[1]);
+    header->mutable_spacing()->set_z(data->spacing[2]);
+    if (!writer->Write(header_message)) return grpc::Status(grpc::StatusCode::CANCELLED, "the stream was cancelled");
+    const auto* bytes = reinterpret_cast<const char*>(values.data());
+    const long total = header->total_bytes();
+    for (long offset = 0; offset < total; offset += chunk) {
+      if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "the stream was cancelled");
+      v1::FieldMessage message;
+      message.mutable_chunk()->set_offset(offset);
+      message.mutable_chunk()->set_data(bytes + offset, std::min(chunk, total - offset));
+      if (!writer->Write(message)) return grpc::Status(grpc::StatusCode::CANCELLED, "the stream was cancelled");
+    }
+  }
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::Checkpoint(grpc::ServerContext*, const v1::CheckpointRequest* request,
+                                           v1::CheckpointResponse* response) {
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  auto info = manager_.checkpoint(request->session_id());
+  if (!info.ok()) return to_grpc(info.status());
+  response->set_checkpoint_id(info->checkpoint_id);
+  response->set_path(info->path);
+  response->set_step(info->step);
+  response->set_bytes(info->bytes);
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::Restore(grpc::ServerContext*, const v1::RestoreRequest* request, v1::Session* response) {
+  if (request->checkpoint_id().empty()) return invalid("checkpoint_id: required");
+  auto session = manager_.restore(request->checkpoint_id(), request->request_id());
+  if (!session.ok()) return to_grpc(session.status());
+  *response = (*session)->describe();
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*,
+                                              v1::ServerInfo* response) {
+  const auto& limits = manager_.limits();
+  response->set_version(manager_.writer().version);
+  response->set_git_revision(manager_.writer().git_revision);
+  response->set_api_version("lbsolid.v1");
+  for (const char* capability :
+       {"lattice:D2Q9", "lattice:D2Q7", "lattice:D3Q19", "precision:double", "precision:float", "collision:bgk",
+        "exchange:common-velocity", "exchange:pairwise", "stream:profiles", "stream:particles", "field:density",
+        "field:velocity", "checkpoint:hdf5"})
+    response->add_capabilities(capability);
+  response->set_workers(limits.workers);
+  response->set_max_sessions(limits.max_sessions);
+  response->set_max_cells(limits.max_cells);
+  response->set_max_sync_steps(limits.max_sync_steps);
+  response->set_max_message_bytes(4L << 20);
+  response->set_sessions(manager_.count());
+  return grpc::Status::OK;
+}
+
+}  // namespace lbsolid::server

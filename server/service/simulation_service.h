@@ -1,0 +1,40 @@
+#pragma once
+// The lbsolid.v1.Simulation service: checks each request's fields (naming the field in every
+// INVALID_ARGUMENT), hands the work to the SessionManager and its sessions, and pumps stream
+// frames to clients until the session ends, the client cancels, or the daemon stops.
+#include <memory>
+
+#include "lbsolid/v1/simulation.grpc.pb.h"
+#include "server/session/session_manager.h"
+
+namespace lbsolid::server {
+
+class SimulationService final : public v1::Simulation::Service {
+ public:
+  explicit SimulationService(SessionManager& manager) : manager_(manager) {}
+
+  grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::Session*) override;
+  grpc::Status GetSession(grpc::ServerContext*, const v1::GetSessionRequest*, v1::Session*) override;
+  grpc::Status ListSessions(grpc::ServerContext*, const v1::ListSessionsRequest*, v1::ListSessionsResponse*) override;
+  grpc::Status DeleteSession(grpc::ServerContext*, const v1::DeleteSessionRequest*, v1::DeleteSessionResponse*) override;
+  grpc::Status Run(grpc::ServerContext*, const v1::RunRequest*, v1::Session*) override;
+  grpc::Status Step(grpc::ServerContext*, const v1::StepRequest*, v1::StepResponse*) override;
+  grpc::Status Pause(grpc::ServerContext*, const v1::PauseRequest*, v1::Session*) override;
+  grpc::Status Resume(grpc::ServerContext*, const v1::ResumeRequest*, v1::Session*) override;
+  grpc::Status Cancel(grpc::ServerContext*, const v1::CancelRequest*, v1::Session*) override;
+  grpc::Status WatchSession(grpc::ServerContext*, const v1::WatchSessionRequest*,
+                            grpc::ServerWriter<v1::SessionEvent>*) override;
+  grpc::Status WatchProfiles(grpc::ServerContext*, const v1::WatchProfilesRequest*,
+                             grpc::ServerWriter<v1::ProfileFrame>*) override;
+  grpc::Status WatchParticles(grpc::ServerContext*, const v1::WatchParticlesRequest*,
+                              grpc::ServerWriter<v1::ParticleFrame>*) override;
+  grpc::Status GetField(grpc::ServerContext*, const v1::GetFieldRequest*, grpc::ServerWriter<v1::FieldMessage>*) override;
+  grpc::Status Checkpoint(grpc::ServerContext*, const v1::CheckpointRequest*, v1::CheckpointResponse*) override;
+  grpc::Status Restore(grpc::ServerContext*, const v1::RestoreRequest*, v1::Session*) override;
+  grpc::Status GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo*) override;
+
+ private:
+  SessionManager& manager_;
+};
+
+}  // namespace lbsolid::server

@@ -1,0 +1,445 @@
+#include "server/session/session.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "observe/stability.h"
+
+namespace lbsolid::server {
+
+namespace {
+
+long long unix_ms_now() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+v1::Vector3 to_proto(const fluid::Vec3& v) {
+  v1::Vector3 out;
+  out.set_x(v[0]);
+  out.set_y(v[1]);
+  out.set_z(v[2]);
+  return out;
+}
+
+double row_spacing(scene::LatticeKind lattice) {
+  return lattice == scene::LatticeKind::kD2Q7 ? std::sqrt(3.0) / 2 : 1.0;
+}
+
+absl::Status wrong_state(const std::string& what, v1::SessionState state) {
+  return absl::FailedPreconditionError(
+      absl::StrCat(what, ": not allowed while the session is ", v1::SessionState_Name(state)));
+}
+
+}  // namespace
+
+bool is_final(v1::SessionState state) {
+  return state == v1::SESSION_STATE_FAILED || state == v1::SESSION_STATE_CANCELLED;
+}
+
+Session::Session(SessionSetup setup)
+    : id_(std::move(setup.id)),
+      request_id_(std::move(setup.request_id)),
+      scenario_(std::move(setup.scenario)),
+      stability_(setup.translated.stability),
+      created_unix_ms_(setup.created_unix_ms),
+      sim_(scene::build_simulation(setup.translated.scene)) {}
+
+Session::~Session() = default;
+
+long Session::cells() const {
+  const auto& f = sim_->scene().fluid;
+  return sim_->has_fluid() ? static_cast<long>(f.nx) * f.ny * f.nz : 0;
+}
+
+v1::SessionState Session::state() const {
+  std::lock_guard lock(mutex_);
+  return state_;
+}
+
+v1::Session Session::describe() const {
+  v1::Session s;
+  s.set_id(id_);
+  s.set_name(scenario_.name());
+  s.set_request_id(request_id_);
+  *s.mutable_scenario() = scenario_;
+  for (const auto& stage : sim_->stages()) s.add_stages(stage);  // fixed at build: no lock needed
+  s.set_cells(cells());
+  s.set_particles(sim_->solid() ? sim_->solid()->particle_count() : 0);
+  s.set_fluid_bytes(static_cast<long long>(sim_->fluid_bytes()));
+  s.set_solid_bytes(static_cast<long long>(sim_->solid_bytes()));
+  s.set_created_unix_ms(created_unix_ms_);
+  std::lock_guard lock(mutex_);
+  s.set_state(state_);
+  s.set_step(step_);
+  s.set_target_step(target_);
+  s.set_message(message_);
+  if (state_ == v1::SESSION_STATE_RUNNING) {
+    s.set_steps_per_second(steps_per_second_);
+    s.set_mlups(steps_per_second_ * static_cast<double>(cells()) * 1e-6);
+  }
+  return s;
+}
+
+// ---- state changes -------------------------------------------------------------------------
+
+absl::Status Session::run(long steps) {
+  std::lock_guard lock(mutex_);
+  if (closed_) return absl::NotFoundError(absl::StrCat("session_id: session ", id_, " was deleted"));
+  if (state_ == v1::SESSION_STATE_RUNNING || is_final(state_)) return wrong_state("Run", state_);
+  target_ = step_ + steps;
+  set_state_locked(v1::SESSION_STATE_RUNNING);
+  return absl::OkStatus();
+}
+
+absl::Status Session::pause() {
+  std::lock_guard lock(mutex_);
+  if (state_ != v1::SESSION_STATE_RUNNING) return wrong_state("Pause", state_);
+  set_state_locked(v1::SESSION_STATE_PAUSED);
+  return absl::OkStatus();
+}
+
+absl::Status Session::resume() {
+  std::lock_guard lock(mutex_);
+  if (state_ != v1::SESSION_STATE_PAUSED) return wrong_state("Resume", state_);
+  set_state_locked(step_ >= target_ ? v1::SESSION_STATE_DONE : v1::SESSION_STATE_RUNNING);
+  return absl::OkStatus();
+}
+
+absl::Status Session::cancel() {
+  std::lock_guard lock(mutex_);
+  if (is_final(state_)) return wrong_state("Cancel", state_);
+  set_state_locked(v1::SESSION_STATE_CANCELLED);
+  return absl::OkStatus();
+}
+
+void Session::set_state_locked(v1::SessionState next, const std::string& message) {
+  const auto previous = state_;
+  state_ = next;
+  message_ = message;
+  spdlog::info("session {}: {} -> {} at step {}{}{}", id_, v1::SessionState_Name(previous), v1::SessionState_Name(next),
+               step_.load(), message.empty() ? "" : ": ", message);
+  v1::SessionEvent event;
+  event.mutable_state_changed()->set_from(previous);
+  event.mutable_state_changed()->set_to(next);
+  emit_locked(event);
+  // Streams follow a session until it stops for good or reaches its target.
+  if (is_final(next) || next == v1::SESSION_STATE_DONE) close_streams_locked();
+}
+
+void Session::emit_locked(v1::SessionEvent event) {
+  event.set_session_id(id_);
+  event.set_unix_ms(unix_ms_now());
+  for (const auto& watcher : event_watchers_) watcher->publish(event);
+}
+
+void Session::close_streams_locked() {
+  for (const auto& w : event_watchers_) w->close();
+  for (const auto& w : profile_watchers_) w->close();
+  for (const auto& w : particle_watchers_) w.channel->close();
+  event_watchers_.clear();
+  profile_watchers_.clear();
+  particle_watchers_.clear();
+  has_frame_watchers_ = false;
+}
+
+void Session::close() {
+  std::lock_guard lock(mutex_);
+  closed_ = true;
+  if (state_ == v1::SESSION_STATE_RUNNING) set_state_locked(v1::SESSION_STATE_CANCELLED);
+  close_streams_locked();
+}
+
+void Session::pause_and_settle() {
+  {
+    std::lock_guard lock(mutex_);
+    if (state_ == v1::SESSION_STATE_RUNNING) set_state_locked(v1::SESSION_STATE_PAUSED);
+  }
+  const auto wait_for_slice = lock_simulation();  // a slice in progress ends at the next step
+}
+
+void Session::fail(long step, const std::string& cause) {
+  std::lock_guard lock(mutex_);
+  const std::string message = absl::StrCat("step ", step, ": ", cause);
+  v1::SessionEvent event;
+  event.mutable_error()->set_step(step);
+  event.mutable_error()->set_message(message);
+  emit_locked(event);
+  set_state_locked(v1::SESSION_STATE_FAILED, message);
+}
+
+// ---- stepping ------------------------------------------------------------------------------
+
+bool Session::wants_work_locked() const {
+  return !closed_ && state_ == v1::SESSION_STATE_RUNNING && step_ < target_;
+}
+
+bool Session::claim_schedule() {
+  std::lock_guard lock(mutex_);
+  if (scheduled_ || !wants_work_locked()) return false;
+  scheduled_ = true;
+  return true;
+}
+
+bool Session::finish_slice() {
+  std::lock_guard lock(mutex_);
+  if (state_ == v1::SESSION_STATE_RUNNING && !closed_ && step_ >= target_) set_state_locked(v1::SESSION_STATE_DONE);
+  scheduled_ = wants_work_locked();
+  return scheduled_;
+}
+
+bool Session::step_once() {
+  const long step = sim_->step_count() + 1;
+  try {
+    sim_->step();
+  } catch (const std::exception& e) {
+    fail(step, absl::StrCat("the simulation stopped: ", e.what()));
+    return false;
+  }
+  step_ = sim_->step_count();
+  if (has_frame_watchers_) publish_frames(step_);
+  if (step_ % stability_.interval == 0) {
+    const std::string problem = observe::find_instability(*sim_, stability_.limits);
+    if (!problem.empty()) {
+      fail(step_, problem);
+      return false;
+    }
+  }
+  return true;
+}
+
+std::unique_lock<std::mutex> Session::lock_simulation() const {
+  ++readers_waiting_;
+  std::unique_lock lock(sim_mutex_);
+  --readers_waiting_;
+  return lock;
+}
+
+void Session::advance(std::chrono::milliseconds slice) {
+  if (readers_waiting_ > 0) return;  // let them in first; the session is queued again
+  std::lock_guard sim_lock(sim_mutex_);
+  const auto start = Clock::now();
+  long taken = 0;
+  while (true) {
+    {
+      std::lock_guard lock(mutex_);
+      if (!wants_work_locked()) break;
+    }
+    if (!step_once()) return;
+    ++taken;
+    if (Clock::now() - start >= slice || readers_waiting_ > 0) break;
+  }
+  record_rate(taken, Clock::now() - start);
+  emit_progress();
+}
+
+absl::StatusOr<StepResult> Session::step_now(long steps, std::chrono::system_clock::time_point deadline) {
+  const auto sim_lock = lock_simulation();
+  {
+    std::lock_guard lock(mutex_);
+    if (state_ == v1::SESSION_STATE_RUNNING || is_final(state_)) return wrong_state("Step", state_);
+  }
+  StepResult result;
+  auto longest_step = std::chrono::system_clock::duration::zero();
+  const auto margin = std::chrono::milliseconds(20);
+  while (result.steps_taken < steps) {
+    const auto before = std::chrono::system_clock::now();
+    if (before + 2 * longest_step + margin > deadline) {
+      result.deadline_reached = true;
+      break;
+    }
+    if (!step_once()) break;
+    ++result.steps_taken;
+    longest_step = std::max(longest_step, std::chrono::system_clock::now() - before);
+  }
+  std::lock_guard lock(mutex_);
+  if (!is_final(state_) && result.steps_taken > 0) {
+    target_ = std::max(target_, static_cast<long>(step_));
+    if (state_ != v1::SESSION_STATE_PAUSED) set_state_locked(v1::SESSION_STATE_PAUSED);
+  }
+  return result;
+}
+
+void Session::record_rate(long steps, Clock::duration elapsed) {
+  const double seconds = std::chrono::duration<double>(elapsed).count();
+  if (steps == 0 || seconds <= 0) return;
+  const double rate = steps / seconds;
+  std::lock_guard lock(mutex_);
+  steps_per_second_ = steps_per_second_ == 0 ? rate : 0.7 * steps_per_second_ + 0.3 * rate;
+}
+
+void Session::emit_progress() {
+  std::lock_guard lock(mutex_);
+  if (event_watchers_.empty()) return;
+  v1::SessionEvent event;
+  auto* p = event.mutable_progress();
+  p->set_step(step_);
+  p->set_target_step(target_);
+  p->set_steps_per_second(steps_per_second_);
+  p->set_mlups(steps_per_second_ * static_cast<double>(cells()) * 1e-6);
+  if (steps_per_second_ > 0) p->set_estimated_seconds_left(static_cast<double>(target_ - step_) / steps_per_second_);
+  emit_locked(event);
+}
+
+// ---- observers -----------------------------------------------------------------------------
+
+v1::ProfileFrame Session::profile_frame() const {
+  v1::ProfileFrame frame;
+  frame.set_step(sim_->step_count());
+  const auto u = sim_->velocity_profile();
+  const double dy = row_spacing(sim_->scene().lattice);
+  for (std::size_t y = 0; y < u.size(); ++y) {
+    frame.add_y(static_cast<double>(y) * dy);
+    frame.add_u_x(u[y]);
+  }
+  return frame;
+}
+
+v1::ParticleFrame Session::particle_frame(const std::vector<int>& bodies) const {
+  v1::ParticleFrame frame;
+  frame.set_step(sim_->step_count());
+  const auto& solid = *sim_->solid();
+  for (int b : bodies) {
+    const auto& body = solid.body(b);
+    auto* out = frame.add_bodies();
+    out->set_name(body.name);
+    for (int p = body.first; p < body.first + body.count; ++p) {
+      const auto& r = solid.position(p);
+      const auto u = sim_->particle_velocity(p);
+      for (int a = 0; a < 3; ++a) {
+        out->add_position(r[a]);
+        out->add_velocity(u[a]);
+      }
+    }
+    const auto state = sim_->body_state(b);
+    *out->mutable_centre_of_mass() = to_proto(state.centre_of_mass);
+    *out->mutable_mean_velocity() = to_proto(state.velocity);
+    out->set_mass(state.mass);
+  }
+  return frame;
+}
+
+void Session::publish_frames(long step) {
+  std::vector<std::shared_ptr<FrameChannel<v1::ProfileFrame>>> profiles;
+  std::vector<ParticleWatch> particles;
+  {
+    std::lock_guard lock(mutex_);
+    std::erase_if(profile_watchers_, [](const auto& w) { return w->detached(); });
+    std::erase_if(particle_watchers_, [](const auto& w) { return w.channel->detached(); });
+    has_frame_watchers_ = !profile_watchers_.empty() || !particle_watchers_.empty();
+    for (const auto& w : profile_watchers_)
+      if (w->due(step)) profiles.push_back(w);
+    for (const auto& w : particle_watchers_)
+      if (w.channel->due(step)) particles.push_back(w);
+  }
+  // A lossless client may make us wait; pausing, cancelling or deleting ends the wait.
+  const auto abandon = [this] {
+    std::lock_guard lock(mutex_);
+    return closed_ || state_ != v1::SESSION_STATE_RUNNING;
+  };
+  if (!profiles.empty()) {
+    const auto frame = profile_frame();  // computed once for every due client
+    for (const auto& w : profiles) w->publish(frame, abandon);
+  }
+  for (const auto& w : particles) w.channel->publish(particle_frame(w.bodies), abandon);
+}
+
+std::shared_ptr<EventChannel> Session::watch_events(std::chrono::milliseconds progress_interval) {
+  auto channel = std::make_shared<EventChannel>(progress_interval);
+  std::lock_guard lock(mutex_);
+  v1::SessionEvent first;  // the current state, from UNSPECIFIED
+  first.set_session_id(id_);
+  first.set_unix_ms(unix_ms_now());
+  first.mutable_state_changed()->set_to(state_);
+  channel->publish(first);
+  if (closed_ || is_final(state_) || state_ == v1::SESSION_STATE_DONE)
+    channel->close();
+  else
+    event_watchers_.push_back(channel);
+  return channel;
+}
+
+absl::StatusOr<std::shared_ptr<FrameChannel<v1::ProfileFrame>>> Session::watch_profiles(long every,
+                                                                                        Delivery delivery) {
+  if (!sim_->has_fluid()) return absl::FailedPreconditionError("WatchProfiles: the scenario has no fluid");
+  auto channel = std::make_shared<FrameChannel<v1::ProfileFrame>>(delivery, every);
+  const auto sim_lock = lock_simulation();  // between two steps: the first frame is the current state
+  channel->publish(profile_frame(), [] { return true; });
+  std::lock_guard lock(mutex_);
+  if (closed_ || is_final(state_) || state_ == v1::SESSION_STATE_DONE) {
+    channel->close();
+  } else {
+    profile_watchers_.push_back(channel);
+    has_frame_watchers_ = true;
+  }
+  return channel;
+}
+
+absl::StatusOr<std::shared_ptr<FrameChannel<v1::ParticleFrame>>> Session::watch_particles(
+    long every, Delivery delivery, const std::vector<std::string>& names) {
+  const auto* solid = sim_->solid();
+  if (!solid) return absl::FailedPreconditionError("WatchParticles: the scenario has no bodies");
+  std::vector<int> bodies;
+  std::vector<std::string> known;
+  for (int b = 0; b < solid->body_count(); ++b) known.push_back(solid->body(b).name);
+  if (names.empty())
+    for (int b = 0; b < solid->body_count(); ++b) bodies.push_back(b);
+  for (const auto& name : names) {
+    const auto it = std::find(known.begin(), known.end(), name);
+    if (it == known.end())
+      return absl::InvalidArgumentError(
+          absl::StrCat("bodies: no body named \"", name, "\"; the scenario has ", absl::StrJoin(known, ", ")));
+    bodies.push_back(static_cast<int>(it - known.begin()));
+  }
+  auto channel = std::make_shared<FrameChannel<v1::ParticleFrame>>(delivery, every);
+  const auto sim_lock = lock_simulation();
+  channel->publish(particle_frame(bodies), [] { return true; });
+  std::lock_guard lock(mutex_);
+  if (closed_ || is_final(state_) || state_ == v1::SESSION_STATE_DONE) {
+    channel->close();
+  } else {
+    particle_watchers_.push_back({channel, bodies});
+    has_frame_watchers_ = true;
+  }
+  return channel;
+}
+
+absl::StatusOr<FieldData> Session::fields() const {
+  if (!sim_->has_fluid()) return absl::FailedPreconditionError("GetField: the scenario has no fluid");
+  const auto sim_lock = lock_simulation();
+  FieldData data;
+  data.step = sim_->step_count();
+  data.fields = sim_->fluid_fields();
+  data.spacing = {1.0, row_spacing(sim_->scene().lattice), 1.0};
+  return data;
+}
+
+storage::CheckpointContents Session::checkpoint_contents() const {
+  const auto sim_lock = lock_simulation();
+  storage::CheckpointContents c;
+  c.scenario_text = scenario_to_text(scenario_);
+  c.session_id = id_;
+  c.session_name = scenario_.name();
+  c.request_id = request_id_;
+  c.state = sim_->save_state();
+  std::lock_guard lock(mutex_);
+  c.target_step = target_;
+  c.done = state_ == v1::SESSION_STATE_DONE;
+  return c;
+}
+
+void Session::restore(const scene::SimulationState& state, long target_step, v1::SessionState session_state) {
+  const auto sim_lock = lock_simulation();
+  sim_->load_state(state);
+  std::lock_guard lock(mutex_);
+  step_ = sim_->step_count();
+  target_ = target_step;
+  state_ = session_state;
+}
+
+}  // namespace lbsolid::server

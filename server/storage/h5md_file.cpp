@@ -1,0 +1,282 @@
+// H5MD 1.1 writer (layout in h5md_file.h). Each time series is a group with three datasets that
+// grow together by one frame per append: step int64 [frame], time float64 [frame] and value
+// float64 [frame][...], chunked along the unlimited frame axis. The file is opened with the 1.8
+// object format so the scenario text may exceed the 64 KiB attribute limit of the oldest format.
+#include "server/storage/h5md_file.h"
+
+#include <pwd.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <map>
+#include <stdexcept>
+
+#include "server/storage/file_replace.h"
+#include "server/storage/hdf5_handles.h"
+#include "server/storage/hdf5_io.h"
+
+namespace lbsolid::server::storage {
+namespace {
+
+constexpr hsize_t kChunkBytes = 64 * 1024;  // frames per chunk chosen to fill about this much
+constexpr hsize_t kMaxFramesPerChunk = 128;  // short runs stay small on disk
+constexpr const char* kProfileName = "velocity_profile";
+
+// Creates every missing group along an absolute path, each without time stamps (intermediate
+// groups made by HDF5 itself would carry them).
+h5::Group ensure_group(hid_t file, const std::string& path) {
+  h5::Group group(h5::check(H5Gopen2(file, "/", H5P_DEFAULT), "cannot open /"));
+  std::size_t begin = 1;
+  while (begin < path.size()) {
+    const std::size_t end = std::min(path.find('/', begin), path.size());
+    group = h5::open_or_create_group(group.get(), path.substr(begin, end - begin));
+    begin = end + 1;
+  }
+  return group;
+}
+
+h5::Dataset create_growing_dataset(hid_t group, const std::string& name, hid_t file_type,
+                                   const std::vector<hsize_t>& frame_shape) {
+  std::vector<hsize_t> dims{0}, max_dims{H5S_UNLIMITED}, chunk{1};
+  const hsize_t frame_bytes = 8 * h5::element_count(frame_shape);
+  chunk[0] = std::clamp<hsize_t>(kChunkBytes / frame_bytes, 1, kMaxFramesPerChunk);
+  for (hsize_t d : frame_shape) {
+    dims.push_back(d);
+    max_dims.push_back(d);
+    chunk.push_back(d);
+  }
+  const h5::Dataspace space = h5::simple_space(dims, max_dims);
+  const h5::PropertyList creation = h5::dataset_creation();
+  h5::check_status(H5Pset_chunk(creation.get(), static_cast<int>(chunk.size()), chunk.data()), "cannot chunk " + name);
+  return h5::Dataset(h5::check(H5Dcreate2(group, name.c_str(), file_type, space.get(), H5P_DEFAULT, creation.get(),
+                                          H5P_DEFAULT),
+                               "cannot create dataset " + name));
+}
+
+// Grows dataset by one frame (index `frame`) and writes it.
+void append_frame(hid_t dataset, hsize_t frame, const std::vector<hsize_t>& frame_shape, hid_t memory_type,
+                  const void* values, const std::string& name) {
+  std::vector<hsize_t> dims{frame + 1}, start{frame}, count{1};
+  for (hsize_t d : frame_shape) {
+    dims.push_back(d);
+    start.push_back(0);
+    count.push_back(d);
+  }
+  h5::check_status(H5Dset_extent(dataset, dims.data()), "cannot extend " + name);
+  const h5::Dataspace file_space(h5::check(H5Dget_space(dataset), "cannot extend " + name));
+  h5::check_status(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
+                   "cannot select frame of " + name);
+  const h5::Dataspace memory_space = h5::simple_space(count);
+  h5::check_status(H5Dwrite(dataset, memory_type, memory_space.get(), file_space.get(), H5P_DEFAULT, values),
+                   "cannot write frame of " + name);
+}
+
+struct Series {
+  std::vector<hsize_t> frame_shape;
+  hsize_t frames = 0;
+  h5::Dataset step, time, value;
+};
+
+void check_body_name(const std::string& body) {
+  if (body.empty() || body == "." || body == ".." || body.find('/') != std::string::npos || body == kProfileName ||
+      body == std::string(kProfileName) + "_y")
+    throw std::invalid_argument("invalid body name \"" + body + "\" for an H5MD group");
+}
+
+// H5MD wants the person who ran the simulation; the daemon only knows its user account.
+std::string author_name() {
+  for (const char* variable : {"USER", "LOGNAME"})
+    if (const char* name = std::getenv(variable); name != nullptr && *name != '\0') return name;
+  passwd entry{};
+  passwd* found = nullptr;
+  std::array<char, 4096> buffer{};
+  if (::getpwuid_r(::getuid(), &entry, buffer.data(), buffer.size(), &found) == 0 && found != nullptr)
+    return found->pw_name;
+  return "unknown";
+}
+
+}  // namespace
+
+struct H5mdWriter::Impl {
+  std::string path;
+  std::string partial;
+  H5mdBox box;
+  h5::File file;  // declared before the series: closed after their datasets
+  std::map<std::string, Series> series;         // by group path
+  std::map<std::string, std::size_t> particles;  // particle count of each body
+  std::vector<double> profile_y;
+  bool closed = false;
+
+  std::string context() const { return "H5MD file " + path; }
+
+  void check_open() const {
+    if (closed) throw std::logic_error(context() + ": already closed");
+  }
+
+  Series& series_at(const std::string& group_path, const std::vector<hsize_t>& frame_shape) {
+    auto found = series.find(group_path);
+    if (found != series.end()) return found->second;
+    const h5::Group group = ensure_group(file.get(), group_path);
+    Series s;
+    s.frame_shape = frame_shape;
+    s.step = create_growing_dataset(group.get(), "step", H5T_STD_I64LE, {});
+    s.time = create_growing_dataset(group.get(), "time", H5T_IEEE_F64LE, {});
+    s.value = create_growing_dataset(group.get(), "value", H5T_IEEE_F64LE, frame_shape);
+    return series.emplace(group_path, std::move(s)).first->second;
+  }
+
+  void append(const std::string& group_path, const std::vector<hsize_t>& frame_shape, long step, const double* values) {
+    Series& s = series_at(group_path, frame_shape);
+    const double time = static_cast<double>(step);  // lattice time: one unit per step
+    append_frame(s.step.get(), s.frames, {}, H5T_NATIVE_LONG, &step, group_path + "/step");
+    append_frame(s.time.get(), s.frames, {}, H5T_NATIVE_DOUBLE, &time, group_path + "/time");
+    append_frame(s.value.get(), s.frames, frame_shape, H5T_NATIVE_DOUBLE, values, group_path + "/value");
+    ++s.frames;
+  }
+
+  void write_header(const std::string& creator_version, const std::string& scenario_text) {
+    const h5::Group h5md = ensure_group(file.get(), "/h5md");
+    h5::write_attribute(h5md.get(), "version", std::vector<int>{1, 1});
+    h5::write_string_attribute(ensure_group(file.get(), "/h5md/author").get(), "name", author_name());
+    const h5::Group creator = ensure_group(file.get(), "/h5md/creator");
+    h5::write_string_attribute(creator.get(), "name", "lbsolid");
+    h5::write_string_attribute(creator.get(), "version", creator_version);
+    h5::write_string_attribute(ensure_group(file.get(), "/parameters").get(), "scenario", scenario_text);
+  }
+
+  void write_box(const std::string& body) {
+    const h5::Group group = ensure_group(file.get(), "/particles/" + body + "/box");
+    h5::write_attribute(group.get(), "dimension", box.dimension);
+    std::vector<std::string> boundary;
+    for (int axis = 0; axis < box.dimension; ++axis) boundary.push_back(box.periodic[axis] ? "periodic" : "none");
+    h5::write_string_array_attribute(group.get(), "boundary", boundary);
+    h5::write_dataset<double>(group.get(), "edges", {hsize_t(box.dimension)}, box.edges.data());
+  }
+
+  void close_file() {
+    closed = true;  // a failed close is not retried by the destructor: the .partial stays for inspection
+    h5::check_status(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "cannot flush");
+    series.clear();
+    h5::check_status(file.close(), "cannot close");
+    replace_durably(partial, path);
+  }
+};
+
+H5mdWriter::H5mdWriter(const std::string& path, const std::string& creator_version, const std::string& scenario_text,
+                       const H5mdBox& box)
+    : impl_(std::make_unique<Impl>()) {
+  if (box.dimension != 2 && box.dimension != 3)
+    throw std::invalid_argument("H5MD file " + path + ": box dimension " + std::to_string(box.dimension) +
+                                " is not 2 or 3");
+  impl_->path = path;
+  impl_->partial = path + ".partial";
+  impl_->box = box;
+  h5::with_context(impl_->context(), [&] {
+    try {
+      const h5::PropertyList creation = h5::file_creation();
+      const h5::PropertyList access = h5::file_access_v18();
+      impl_->file = h5::File(h5::check(H5Fcreate(impl_->partial.c_str(), H5F_ACC_TRUNC, creation.get(), access.get()),
+                                       "cannot create " + impl_->partial));
+      impl_->write_header(creator_version, scenario_text);
+    } catch (...) {
+      impl_->file.close();
+      remove_quietly(impl_->partial);
+      throw;
+    }
+  });
+}
+
+H5mdWriter::~H5mdWriter() {
+  if (impl_ == nullptr || impl_->closed) return;
+  try {
+    close();
+  } catch (...) {
+    // A destructor must not throw; the data stays in <path>.partial.
+  }
+}
+
+void H5mdWriter::append_particles(const std::string& body, long step, const std::vector<double>& positions,
+                                  const std::vector<double>& velocities) {
+  impl_->check_open();
+  check_body_name(body);
+  const std::size_t dimension = impl_->box.dimension;
+  if (positions.empty() || positions.size() % dimension != 0 || velocities.size() != positions.size())
+    throw std::invalid_argument(impl_->context() + ": body " + body + " needs " + std::to_string(dimension) +
+                                " position and velocity values per particle, got " + std::to_string(positions.size()) +
+                                " and " + std::to_string(velocities.size()));
+  const std::size_t count = positions.size() / dimension;
+  const auto known = impl_->particles.find(body);
+  if (known != impl_->particles.end() && known->second != count)
+    throw std::invalid_argument(impl_->context() + ": body " + body + " has " + std::to_string(count) +
+                                " particles, earlier frames had " + std::to_string(known->second));
+  h5::with_context(impl_->context(), [&] {
+    if (known == impl_->particles.end()) {
+      impl_->write_box(body);
+      impl_->particles[body] = count;
+    }
+    const std::vector<hsize_t> shape{count, dimension};
+    impl_->append("/particles/" + body + "/position", shape, step, positions.data());
+    impl_->append("/particles/" + body + "/velocity", shape, step, velocities.data());
+  });
+}
+
+void H5mdWriter::append_body(const std::string& body, long step, const std::array<double, 3>& centre_of_mass,
+                             const std::array<double, 3>& velocity) {
+  impl_->check_open();
+  check_body_name(body);
+  const std::vector<hsize_t> shape{hsize_t(impl_->box.dimension)};
+  h5::with_context(impl_->context(), [&] {
+    impl_->append("/observables/" + body + "/centre_of_mass", shape, step, centre_of_mass.data());
+    impl_->append("/observables/" + body + "/velocity", shape, step, velocity.data());
+  });
+}
+
+void H5mdWriter::append_profile(long step, const std::vector<double>& y, const std::vector<double>& u_x) {
+  impl_->check_open();
+  if (y.empty() || y.size() != u_x.size())
+    throw std::invalid_argument(impl_->context() + ": a velocity profile needs as many u_x as y values (got " +
+                                std::to_string(u_x.size()) + " and " + std::to_string(y.size()) + ")");
+  if (!impl_->profile_y.empty() && impl_->profile_y != y)
+    throw std::invalid_argument(impl_->context() + ": the velocity profile's y values changed between frames");
+  h5::with_context(impl_->context(), [&] {
+    if (impl_->profile_y.empty()) {
+      const h5::Group observables = ensure_group(impl_->file.get(), "/observables");
+      h5::write_dataset<double>(observables.get(), std::string(kProfileName) + "_y", {y.size()}, y.data());
+      impl_->profile_y = y;
+    }
+    impl_->append(std::string("/observables/") + kProfileName, {y.size()}, step, u_x.data());
+  });
+}
+
+void H5mdWriter::flush() {
+  impl_->check_open();
+  h5::with_context(impl_->context(), [&] {
+    h5::check_status(H5Fflush(impl_->file.get(), H5F_SCOPE_GLOBAL), "cannot flush");
+  });
+}
+
+void H5mdWriter::close() {
+  if (impl_->closed) return;
+  h5::with_context(impl_->context(), [&] { impl_->close_file(); });
+}
+
+H5mdSeries read_h5md_series(const std::string& path, const std::string& group_path) {
+  return h5::with_context("H5MD file " + path + ", series " + group_path, [&] {
+    h5::File file(h5::check(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "cannot open"));
+    const h5::Group group = h5::open_group(file.get(), group_path);
+    H5mdSeries result;
+    const h5::DatasetValues<long> step = h5::read_dataset<long>(group.get(), "step");
+    const h5::DatasetValues<double> time = h5::read_dataset<double>(group.get(), "time");
+    h5::DatasetValues<double> value = h5::read_dataset<double>(group.get(), "value");
+    if (value.dims.empty() || step.values.size() != value.dims[0] || time.values.size() != value.dims[0])
+      throw std::runtime_error("step, time and value do not hold the same number of frames");
+    result.step = step.values;
+    result.time = time.values;
+    result.value_shape.assign(value.dims.begin() + 1, value.dims.end());
+    result.value = std::move(value.values);
+    return result;
+  });
+}
+
+}  // namespace lbsolid::server::storage

@@ -1,0 +1,63 @@
+#pragma once
+// Trajectories and observables in the H5MD layout (https://www.nongnu.org/h5md/):
+//   /h5md                       attrs version = [1, 1]; groups author (name), creator (name, version)
+//   /particles/<body>/box       attrs dimension, boundary ("periodic" | "none" per axis); edges
+//   /particles/<body>/position/{step, time, value [frame][particle][dimension]}
+//   /particles/<body>/velocity/{step, time, value [frame][particle][dimension]}
+//   /observables/<body>/centre_of_mass/{step, time, value [frame][dimension]}
+//   /observables/<body>/velocity/{step, time, value [frame][dimension]}     (mass-weighted mean)
+//   /observables/velocity_profile/{step, time, value [frame][ny]}; /observables/velocity_profile_y [ny]
+//   /parameters                 attr scenario (protobuf text of the lbsolid.v1.Scenario)
+// step and time are per-series datasets (time = step: lattice time). Series grow by one frame per
+// append (chunked, unlimited first dimension). The file is written as <path>.partial and renamed to
+// <path> by close(), so an interrupted writer never leaves a half file under the final name.
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace lbsolid::server::storage {
+
+struct H5mdBox {
+  int dimension = 2;
+  std::array<double, 3> edges{0, 0, 0};        // box lengths along x, y, z, lattice units
+  std::array<bool, 3> periodic{true, true, true};
+};
+
+class H5mdWriter {
+ public:
+  // Throws std::runtime_error naming the path and the cause.
+  H5mdWriter(const std::string& path, const std::string& creator_version, const std::string& scenario_text,
+             const H5mdBox& box);
+  ~H5mdWriter();  // closes and renames if close() was not called (without throwing)
+  H5mdWriter(const H5mdWriter&) = delete;
+  H5mdWriter& operator=(const H5mdWriter&) = delete;
+
+  // positions, velocities: dimension values per particle (particle-major); the particle count of a
+  // body must not change between frames (std::invalid_argument).
+  void append_particles(const std::string& body, long step, const std::vector<double>& positions,
+                        const std::vector<double>& velocities);
+  void append_body(const std::string& body, long step, const std::array<double, 3>& centre_of_mass,
+                   const std::array<double, 3>& velocity);
+  void append_profile(long step, const std::vector<double>& y, const std::vector<double>& u_x);
+  void flush();
+  void close();  // flushes, closes and renames <path>.partial to <path>
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// One H5MD time series read back: step[frame], time[frame], and the values of each frame
+// flattened (value_shape gives the per-frame shape).
+struct H5mdSeries {
+  std::vector<long> step;
+  std::vector<double> time;
+  std::vector<long> value_shape;
+  std::vector<double> value;  // frames x product(value_shape)
+};
+
+// group: e.g. "/observables/disk/velocity". Throws std::runtime_error naming the path and group.
+H5mdSeries read_h5md_series(const std::string& path, const std::string& group);
+
+}  // namespace lbsolid::server::storage

@@ -1,0 +1,577 @@
+// HDF5 storage: checkpoints continue a run bit for bit through a file and are replaced atomically;
+// field snapshots hold [z][y][x] data with an XDMF index ParaView reads; H5MD files have the H5MD
+// 1.1 structure, read back exactly, and appear under their final name only when closed.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <thread>
+
+#include "scene/simulation.h"
+#include "server/storage/checkpoint_file.h"
+#include "server/storage/field_snapshot.h"
+#include "server/storage/h5md_file.h"
+#include "server/storage/hdf5_io.h"
+
+namespace lbsolid::server::storage {
+namespace {
+
+namespace fs = std::filesystem;
+using scene::LatticeKind;
+using scene::Precision;
+
+// A fresh directory under the system temporary directory, removed with everything in it.
+class TempDir {
+ public:
+  TempDir() {
+    static std::atomic<int> counter{0};
+    const auto now = std::chrono::steady_clock::now().time_since_epoch().count();
+    path_ = fs::temp_directory_path() /
+            ("lbsolid-storage-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" +
+             std::to_string(now));
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(path_)) names.push_back(entry.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+ private:
+  fs::path path_;
+};
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+template <class F>
+std::string thrown_message(F&& action) {
+  try {
+    action();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(nothing thrown)";
+}
+
+scene::Scene coupled_scene(LatticeKind lattice, Precision precision) {
+  scene::Scene s;
+  s.lattice = lattice;
+  s.precision = precision;
+  const bool three_d = lattice == LatticeKind::kD3Q19;
+  s.fluid.nx = 16;
+  s.fluid.ny = 12;
+  s.fluid.nz = three_d ? 6 : 1;
+  s.fluid.omega = 1.3;
+  s.fluid.body_force = {2e-6, 0, 0};
+  s.fluid.sides[fluid::kYLow].kind = fluid::WallKind::kBounceBack;
+  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kMovingWall;
+  s.fluid.sides[fluid::kYHigh].wall_velocity = {0.01, 0, 0};
+  solid::BodySpec disk;
+  disk.shape = solid::BodyShape::kDisk;
+  disk.radius = 2;
+  disk.centre = {6, 5, three_d ? 3.0 : 0.0};
+  disk.load = {1e-4, -2e-4, 0};
+  s.bodies.push_back(disk);
+  return s;
+}
+
+CheckpointContents contents_of(const scene::Simulation& simulation) {
+  CheckpointContents contents;
+  contents.scenario_text = "fluid {\n  nx: 16\n  omega: 1.3\n}\nname: \"disk \\\"one\\\"\"\n\n";
+  contents.session_id = "7f3c9a2e-session";
+  contents.session_name = "sédimentation test";
+  contents.target_step = 1000;
+  contents.state = simulation.save_state();
+  return contents;
+}
+
+const WriterInfo kWriter{"0.1.0", "abc1234"};
+
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+void expect_same_state(const scene::SimulationState& a, const scene::SimulationState& b) {
+  EXPECT_EQ(a.step, b.step);
+  EXPECT_EQ(a.has_fluid, b.has_fluid);
+  EXPECT_EQ(a.fluid.steps, b.fluid.steps);
+  EXPECT_EQ(a.fluid.current, b.fluid.current);
+  EXPECT_EQ(a.fluid.pulled, b.fluid.pulled);
+  EXPECT_EQ(a.fluid.stepped, b.fluid.stepped);
+  EXPECT_EQ(a.fluid.buffers, b.fluid.buffers);
+  EXPECT_EQ(a.fluid.cells, b.fluid.cells);
+  EXPECT_TRUE(same_bytes(a.fluid.populations, b.fluid.populations));
+  EXPECT_EQ(a.has_solid, b.has_solid);
+  EXPECT_TRUE(same_bytes(a.solid.positions, b.solid.positions));
+  EXPECT_TRUE(same_bytes(a.solid.incoming, b.solid.incoming));
+  EXPECT_TRUE(same_bytes(a.solid.momentum, b.solid.momentum));
+}
+
+// --- checkpoints ------------------------------------------------------------------------------
+
+// N steps, checkpoint file, N more steps in a new simulation == 2N straight steps, bit for bit.
+void expect_restart_through_file_is_exact(const scene::Scene& scene) {
+  TempDir dir;
+  const std::string path = dir.file("session.h5");
+  constexpr long n = 25;  // odd: the in-place scheme is saved mid-pair
+  auto straight = scene::build_simulation(scene);
+  straight->run(2 * n);
+
+  auto first = scene::build_simulation(scene);
+  first->run(n);
+  const CheckpointContents written = contents_of(*first);
+  write_checkpoint(path, written, kWriter);
+  const CheckpointContents read = read_checkpoint(path);
+  EXPECT_EQ(read.scenario_text, written.scenario_text);
+  EXPECT_EQ(read.session_id, written.session_id);
+  EXPECT_EQ(read.session_name, written.session_name);
+  EXPECT_EQ(read.target_step, written.target_step);
+  expect_same_state(read.state, written.state);
+
+  auto second = scene::build_simulation(scene);
+  second->load_state(read.state);
+  EXPECT_EQ(second->step_count(), n);
+  second->run(n);
+  expect_same_state(second->save_state(), straight->save_state());
+}
+
+TEST(CheckpointFile, CoupledRunContinuesBitForBitInDouble) {
+  expect_restart_through_file_is_exact(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+}
+
+TEST(CheckpointFile, CoupledRunContinuesBitForBitInFloat) {
+  expect_restart_through_file_is_exact(coupled_scene(LatticeKind::kD2Q9, Precision::kFloat));
+}
+
+TEST(CheckpointFile, CoupledThreeDimensionalTwoBufferRunContinuesBitForBit) {
+  scene::Scene s = coupled_scene(LatticeKind::kD3Q19, Precision::kFloat);
+  s.fluid.streaming = fluid::StreamingScheme::kTwoBuffer;
+  expect_restart_through_file_is_exact(s);
+}
+
+TEST(CheckpointFile, SolidOnlyRunContinuesBitForBit) {
+  scene::Scene s = coupled_scene(LatticeKind::kD2Q9, Precision::kDouble);
+  s.with_fluid = false;
+  s.fluid.body_force = {0, 0, 0};
+  expect_restart_through_file_is_exact(s);
+  TempDir dir;
+  auto simulation = scene::build_simulation(s);
+  write_checkpoint(dir.file("c.h5"), contents_of(*simulation), kWriter);
+  const CheckpointContents read = read_checkpoint(dir.file("c.h5"));
+  EXPECT_FALSE(read.state.has_fluid);
+  EXPECT_TRUE(read.state.has_solid);
+}
+
+TEST(CheckpointFile, RootAttributesDescribeTheWriter) {
+  TempDir dir;
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  write_checkpoint(dir.file("c.h5"), contents_of(*simulation), kWriter);
+  h5::File file(H5Fopen(dir.file("c.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+  ASSERT_TRUE(file.valid());
+  EXPECT_EQ(h5::read_string_attribute(file.get(), "format"), "lbsolid-checkpoint");
+  EXPECT_EQ(h5::read_attribute<int>(file.get(), "format_version"), kCheckpointFormatVersion);
+  EXPECT_EQ(h5::read_string_attribute(file.get(), "lbsolid_version"), "0.1.0");
+  EXPECT_EQ(h5::read_string_attribute(file.get(), "git_revision"), "abc1234");
+  const auto positions = h5::read_dataset<double>(file.get(), "solid/positions");
+  EXPECT_EQ(positions.dims, (std::vector<hsize_t>{simulation->save_state().solid.positions.size(), 3}));
+}
+
+TEST(CheckpointFile, EmptyAndUnusualStringsRoundTrip) {
+  TempDir dir;
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  CheckpointContents contents = contents_of(*simulation);
+  contents.session_name = "";
+  contents.scenario_text = std::string("line\n\ttab\r\nnul:") + '\0' + "end\n";
+  write_checkpoint(dir.file("c.h5"), contents, {"", ""});
+  const CheckpointContents read = read_checkpoint(dir.file("c.h5"));
+  EXPECT_EQ(read.session_name, "");
+  EXPECT_EQ(read.scenario_text, contents.scenario_text);
+}
+
+TEST(CheckpointFile, LeavesNoTemporaryFileBehind) {
+  TempDir dir;
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  write_checkpoint(dir.file("c.h5"), contents_of(*simulation), kWriter);
+  simulation->run(3);
+  write_checkpoint(dir.file("c.h5"), contents_of(*simulation), kWriter);  // replaces the first
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"c.h5"});
+  EXPECT_EQ(read_checkpoint(dir.file("c.h5")).state.step, 3);
+}
+
+TEST(CheckpointFile, IdenticalContentGivesIdenticalFiles) {
+  TempDir dir;
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  write_checkpoint(dir.file("a.h5"), contents_of(*simulation), kWriter);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // a time stamp would now differ
+  write_checkpoint(dir.file("b.h5"), contents_of(*simulation), kWriter);
+  EXPECT_TRUE(file_bytes(dir.file("a.h5")) == file_bytes(dir.file("b.h5")));
+}
+
+TEST(CheckpointFile, MissingDirectoryIsReportedWithThePath) {
+  TempDir dir;
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  const std::string path = dir.file("no/such/dir/c.h5");
+  const std::string message = thrown_message([&] { write_checkpoint(path, contents_of(*simulation), kWriter); });
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_NE(message.find("No such file or directory"), std::string::npos) << message;
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{});
+}
+
+TEST(CheckpointFile, DirectoryThatIsAFileIsReportedWithThePath) {
+  TempDir dir;
+  std::ofstream(dir.file("plain")) << "x";
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  const std::string path = dir.file("plain/c.h5");
+  const std::string message = thrown_message([&] { write_checkpoint(path, contents_of(*simulation), kWriter); });
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+}
+
+TEST(CheckpointFile, FailedWriteLeavesTheExistingCheckpointIntact) {
+  TempDir dir;
+  const std::string path = dir.file("c.h5");
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  write_checkpoint(path, contents_of(*simulation), kWriter);
+  const std::string before = file_bytes(path);
+  // The temporary file cannot be created: its name is taken by a (non-empty) directory.
+  const std::string blocker = path + ".tmp-" + std::to_string(::getpid());
+  fs::create_directory(blocker);
+  std::ofstream(blocker + "/keep") << "x";
+  simulation->run(5);
+  const std::string message = thrown_message([&] { write_checkpoint(path, contents_of(*simulation), kWriter); });
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_EQ(file_bytes(path), before);
+  EXPECT_EQ(read_checkpoint(path).state.step, 0);
+}
+
+TEST(CheckpointFile, UnwritableDirectoryKeepsTheExistingCheckpoint) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root writes into read-only directories";
+  TempDir dir;
+  const std::string path = dir.file("sub/c.h5");
+  fs::create_directory(fs::path(path).parent_path());
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  write_checkpoint(path, contents_of(*simulation), kWriter);
+  const std::string before = file_bytes(path);
+  fs::permissions(fs::path(path).parent_path(), fs::perms::owner_read | fs::perms::owner_exec);
+  simulation->run(5);
+  const std::string message = thrown_message([&] { write_checkpoint(path, contents_of(*simulation), kWriter); });
+  fs::permissions(fs::path(path).parent_path(), fs::perms::owner_all);
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_EQ(file_bytes(path), before);
+}
+
+TEST(CheckpointFile, FailedRenameRemovesTheTemporaryFile) {
+  TempDir dir;
+  const std::string path = dir.file("c.h5");
+  fs::create_directory(path);  // rename cannot replace a non-empty directory
+  std::ofstream(path + "/keep") << "x";
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  const std::string message = thrown_message([&] { write_checkpoint(path, contents_of(*simulation), kWriter); });
+  EXPECT_NE(message.find("cannot rename"), std::string::npos) << message;
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"c.h5"});
+}
+
+TEST(CheckpointFile, MissingOrForeignFilesAreRefusedClearly) {
+  TempDir dir;
+  EXPECT_NE(thrown_message([&] { read_checkpoint(dir.file("absent.h5")); }).find("no such file"), std::string::npos);
+  std::ofstream(dir.file("text.h5")) << "not hdf5\n";
+  EXPECT_NE(thrown_message([&] { read_checkpoint(dir.file("text.h5")); }).find("not an HDF5 file"), std::string::npos);
+  {
+    h5::File other(H5Fcreate(dir.file("other.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+    ASSERT_TRUE(other.valid());
+    h5::write_attribute(other.get(), "format_version", 1);
+  }
+  const std::string message = thrown_message([&] { read_checkpoint(dir.file("other.h5")); });
+  EXPECT_NE(message.find("not an lbsolid checkpoint"), std::string::npos) << message;
+  EXPECT_NE(message.find(dir.file("other.h5")), std::string::npos) << message;
+}
+
+TEST(CheckpointFile, NewerFormatVersionIsRefusedNamingTheVersionRead) {
+  TempDir dir;
+  const std::string path = dir.file("c.h5");
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  write_checkpoint(path, contents_of(*simulation), kWriter);
+  {
+    h5::File file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT));
+    ASSERT_TRUE(file.valid());
+    ASSERT_GE(H5Adelete(file.get(), "format_version"), 0);
+    h5::write_attribute(file.get(), "format_version", 99);
+  }
+  const std::string message = thrown_message([&] { read_checkpoint(path); });
+  EXPECT_NE(message.find("version 99"), std::string::npos) << message;
+  EXPECT_NE(message.find("version " + std::to_string(kCheckpointFormatVersion)), std::string::npos) << message;
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+}
+
+TEST(CheckpointFile, DatasetOfTheWrongSizeIsRefused) {
+  TempDir dir;
+  const std::string path = dir.file("c.h5");
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  write_checkpoint(path, contents_of(*simulation), kWriter);
+  {
+    h5::File file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT));
+    ASSERT_GE(H5Ldelete(file.get(), "solid/momentum", H5P_DEFAULT), 0);
+    const std::vector<double> one(3, 0.0);
+    h5::write_dataset<double>(file.get(), "solid/momentum", {1, 3}, one.data());
+  }
+  const std::string message = thrown_message([&] { read_checkpoint(path); });
+  EXPECT_NE(message.find("momenta"), std::string::npos) << message;
+}
+
+// --- field snapshots --------------------------------------------------------------------------
+
+scene::FluidFields fields_after(long steps, scene::Simulation& simulation) {
+  simulation.run(steps);
+  return simulation.fluid_fields();
+}
+
+TEST(FieldSnapshot, DatasetsHoldTheFieldsInZyxOrder) {
+  TempDir dir;
+  scene::Scene s = coupled_scene(LatticeKind::kD3Q19, Precision::kDouble);
+  s.fluid.nx = 10;
+  s.fluid.ny = 8;
+  s.fluid.nz = 5;
+  s.bodies[0].centre = {5, 4, 2};
+  auto simulation = scene::build_simulation(s);
+  const scene::FluidFields fields = fields_after(7, *simulation);
+  append_field_snapshot(dir.file("fields.h5"), fields, 7, {});
+  h5::File file(H5Fopen(dir.file("fields.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+  ASSERT_TRUE(file.valid());
+  const auto density = h5::read_dataset<double>(file.get(), "fields/step_000000000007/density");
+  const auto velocity = h5::read_dataset<double>(file.get(), "fields/step_000000000007/velocity");
+  EXPECT_EQ(density.dims, (std::vector<hsize_t>{5, 8, 10}));
+  EXPECT_EQ(velocity.dims, (std::vector<hsize_t>{5, 8, 10, 3}));
+  EXPECT_TRUE(same_bytes(density.values, fields.density));
+  EXPECT_TRUE(same_bytes(velocity.values, fields.velocity));
+}
+
+// One XML element: its attributes and the text up to the next tag.
+struct XmlElement {
+  std::map<std::string, std::string> attributes;
+  std::string text;
+};
+
+// Every <tag ...> element of xml in document order. Enough XML for the flat, entity-free text the
+// XDMF writer emits: attributes are name="value", and no value holds '>'.
+std::vector<XmlElement> xml_elements(const std::string& xml, const std::string& tag) {
+  std::vector<XmlElement> found;
+  const std::string open = "<" + tag;
+  for (std::size_t at = xml.find(open); at != std::string::npos; at = xml.find(open, at + 1)) {
+    const char after = xml[at + open.size()];
+    if (after != ' ' && after != '>' && after != '/') continue;  // a longer tag name
+    const std::size_t end = xml.find('>', at);
+    XmlElement element;
+    for (std::size_t pos = at, eq; (eq = xml.find("=\"", pos)) < end;) {
+      const std::size_t name = xml.rfind(' ', eq) + 1;
+      const std::size_t close = xml.find('"', eq + 2);
+      element.attributes[xml.substr(name, eq - name)] = xml.substr(eq + 2, close - eq - 2);
+      pos = close + 1;
+    }
+    if (xml[end - 1] != '/') element.text = xml.substr(end + 1, xml.find('<', end) - end - 1);
+    found.push_back(element);
+  }
+  return found;
+}
+
+std::vector<std::string> attribute_of_each(const std::vector<XmlElement>& elements, const std::string& name) {
+  std::vector<std::string> values;
+  for (const XmlElement& e : elements) values.push_back(e.attributes.count(name) ? e.attributes.at(name) : "(none)");
+  return values;
+}
+
+TEST(FieldSnapshot, XdmfListsEverySnapshotAsATimestep) {
+  TempDir dir;
+  scene::Scene s = coupled_scene(LatticeKind::kD2Q7, Precision::kDouble);
+  auto simulation = scene::build_simulation(s);
+  const std::string h5_path = dir.file("run.fields.h5");
+  const SnapshotGeometry geometry{{1, 0.8660254037844386, 1}, {0.5, 0, 0}};
+  append_field_snapshot(h5_path, fields_after(10, *simulation), 10, geometry);
+  append_field_snapshot(h5_path, fields_after(10, *simulation), 20, geometry);
+  EXPECT_EQ(xdmf_path_for(h5_path), dir.file("run.fields.xdmf"));
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"run.fields.h5", "run.fields.xdmf"}));
+
+  const std::string xdmf = file_bytes(xdmf_path_for(h5_path));
+  const std::vector<XmlElement> grids = xml_elements(xdmf, "Grid");
+  ASSERT_EQ(grids.size(), 3u);  // the temporal collection and one grid per snapshot
+  EXPECT_EQ(grids[0].attributes.at("GridType"), "Collection");
+  EXPECT_EQ(grids[0].attributes.at("CollectionType"), "Temporal");
+  EXPECT_EQ(attribute_of_each(xml_elements(xdmf, "Time"), "Value"), (std::vector<std::string>{"10", "20"}));
+  const std::string nz_ny_nx = "1 12 16";
+  const std::vector<XmlElement> topologies = xml_elements(xdmf, "Topology");
+  EXPECT_EQ(attribute_of_each(topologies, "TopologyType"), (std::vector<std::string>(2, "3DCoRectMesh")));
+  EXPECT_EQ(attribute_of_each(topologies, "Dimensions"), (std::vector<std::string>(2, nz_ny_nx)));
+  EXPECT_EQ(attribute_of_each(xml_elements(xdmf, "Geometry"), "GeometryType"),
+            (std::vector<std::string>(2, "ORIGIN_DXDYDZ")));
+  const std::vector<XmlElement> attributes = xml_elements(xdmf, "Attribute");
+  EXPECT_EQ(attribute_of_each(attributes, "Name"),
+            (std::vector<std::string>{"density", "velocity", "density", "velocity"}));
+  EXPECT_EQ(attribute_of_each(attributes, "AttributeType"),
+            (std::vector<std::string>{"Scalar", "Vector", "Scalar", "Vector"}));
+  EXPECT_EQ(attribute_of_each(attributes, "Center"), (std::vector<std::string>(4, "Node")));
+
+  std::vector<std::string> hdf_dimensions, hdf_paths, origins, spacings;
+  for (const XmlElement& item : xml_elements(xdmf, "DataItem")) {
+    if (item.attributes.at("Format") == "HDF") {
+      hdf_dimensions.push_back(item.attributes.at("Dimensions"));
+      hdf_paths.push_back(item.text);
+    } else {
+      (item.attributes.at("Name") == "Origin" ? origins : spacings).push_back(item.text);
+    }
+  }
+  EXPECT_EQ(hdf_dimensions, (std::vector<std::string>{nz_ny_nx, nz_ny_nx + " 3", nz_ny_nx, nz_ny_nx + " 3"}));
+  EXPECT_EQ(hdf_paths, (std::vector<std::string>{"run.fields.h5:/fields/step_000000000010/density",
+                                                 "run.fields.h5:/fields/step_000000000010/velocity",
+                                                 "run.fields.h5:/fields/step_000000000020/density",
+                                                 "run.fields.h5:/fields/step_000000000020/velocity"}));
+  // z y x order.
+  EXPECT_EQ(origins, (std::vector<std::string>(2, "0 0 0.5")));
+  EXPECT_EQ(spacings, (std::vector<std::string>(2, "1 0.8660254037844386 1")));
+}
+
+TEST(FieldSnapshot, DuplicateStepOrOtherShapeIsRefused) {
+  TempDir dir;
+  auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+  const std::string h5_path = dir.file("fields.h5");
+  const scene::FluidFields fields = fields_after(1, *simulation);
+  append_field_snapshot(h5_path, fields, 1, {});
+  EXPECT_THROW(append_field_snapshot(h5_path, fields, 1, {}), std::invalid_argument);
+  scene::FluidFields smaller = fields;
+  smaller.shape = {8, 12, 1};
+  smaller.density.resize(8 * 12);
+  smaller.velocity.resize(3 * 8 * 12);
+  EXPECT_THROW(append_field_snapshot(h5_path, smaller, 2, {}), std::invalid_argument);
+  EXPECT_EQ(attribute_of_each(xml_elements(file_bytes(xdmf_path_for(h5_path)), "Time"), "Value"),
+            std::vector<std::string>{"1"});
+}
+
+// --- H5MD -------------------------------------------------------------------------------------
+
+constexpr int kParticles = 5;
+constexpr int kFrames = 3;
+
+// Frame f of particle p, component d: distinct and exact in binary.
+double sample(int frame, int particle, int component) { return frame + 0.25 * particle + 0.0625 * component; }
+
+void write_sample_trajectory(H5mdWriter& writer) {
+  for (int f = 0; f < kFrames; ++f) {
+    std::vector<double> positions, velocities;
+    for (int p = 0; p < kParticles; ++p)
+      for (int d = 0; d < 2; ++d) {
+        positions.push_back(sample(f, p, d));
+        velocities.push_back(-sample(f, p, d));
+      }
+    writer.append_particles("disk", 100 * f, positions, velocities);
+    writer.append_body("disk", 100 * f, {1.5 + f, 2.5, 0}, {0.125, -0.25 * f, 0});
+    writer.append_profile(100 * f, {0, 1, 2, 3}, {0.0, 0.1 * f, 0.2 * f, 0.0});
+  }
+}
+
+const H5mdBox kBox{2, {16, 12, 1}, {true, false, true}};
+
+TEST(H5mdFile, HasTheH5mdStructure) {
+  TempDir dir;
+  const std::string path = dir.file("traj.h5md");
+  const std::string scenario(100 * 1024, 'x');  // over the 64 KiB limit of compact attributes
+  {
+    H5mdWriter writer(path, "0.1.0", scenario, kBox);
+    write_sample_trajectory(writer);
+    writer.close();
+  }
+  h5::File file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+  ASSERT_TRUE(file.valid());
+  const h5::Group h5md = h5::open_group(file.get(), "h5md");
+  EXPECT_EQ(h5::read_attribute_values<int>(h5md.get(), "version"), (std::vector<int>{1, 1}));
+  EXPECT_FALSE(h5::read_string_attribute(h5::open_group(file.get(), "h5md/author").get(), "name").empty());
+  const h5::Group creator = h5::open_group(file.get(), "h5md/creator");
+  EXPECT_EQ(h5::read_string_attribute(creator.get(), "name"), "lbsolid");
+  EXPECT_EQ(h5::read_string_attribute(creator.get(), "version"), "0.1.0");
+  EXPECT_EQ(h5::read_string_attribute(h5::open_group(file.get(), "parameters").get(), "scenario"), scenario);
+
+  const h5::Group box = h5::open_group(file.get(), "particles/disk/box");
+  EXPECT_EQ(h5::read_attribute<int>(box.get(), "dimension"), 2);
+  EXPECT_EQ(h5::read_dataset<double>(box.get(), "edges").values, (std::vector<double>{16, 12}));
+  EXPECT_EQ(h5::read_dataset<double>(file.get(), "particles/disk/position/value").dims,
+            (std::vector<hsize_t>{kFrames, kParticles, 2}));
+  EXPECT_EQ(h5::read_dataset<long>(file.get(), "particles/disk/position/step").dims, (std::vector<hsize_t>{kFrames}));
+  EXPECT_EQ(h5::read_dataset<double>(file.get(), "particles/disk/position/time").dims, (std::vector<hsize_t>{kFrames}));
+  EXPECT_EQ(h5::read_dataset<double>(file.get(), "observables/disk/centre_of_mass/value").dims,
+            (std::vector<hsize_t>{kFrames, 2}));
+  EXPECT_EQ(h5::read_dataset<double>(file.get(), "observables/velocity_profile/value").dims,
+            (std::vector<hsize_t>{kFrames, 4}));
+  EXPECT_EQ(h5::read_dataset<double>(file.get(), "observables/velocity_profile_y").values,
+            (std::vector<double>{0, 1, 2, 3}));
+}
+
+TEST(H5mdFile, SeriesReadBackExactly) {
+  TempDir dir;
+  const std::string path = dir.file("traj.h5md");
+  {
+    H5mdWriter writer(path, "0.1.0", "scenario", kBox);
+    write_sample_trajectory(writer);
+  }  // the destructor closes
+  EXPECT_FALSE(fs::exists(path + ".partial"));
+  const H5mdSeries position = read_h5md_series(path, "/particles/disk/position");
+  EXPECT_EQ(position.step, (std::vector<long>{0, 100, 200}));
+  EXPECT_EQ(position.time, (std::vector<double>{0, 100, 200}));
+  EXPECT_EQ(position.value_shape, (std::vector<long>{kParticles, 2}));
+  ASSERT_EQ(position.value.size(), std::size_t{kFrames * kParticles * 2});
+  for (int f = 0; f < kFrames; ++f)
+    for (int p = 0; p < kParticles; ++p)
+      for (int d = 0; d < 2; ++d) EXPECT_EQ(position.value[(f * kParticles + p) * 2 + d], sample(f, p, d));
+  const H5mdSeries velocity = read_h5md_series(path, "/observables/disk/velocity");
+  EXPECT_EQ(velocity.value_shape, (std::vector<long>{2}));
+  EXPECT_EQ(velocity.value, (std::vector<double>{0.125, 0, 0.125, -0.25, 0.125, -0.5}));
+  const std::string message = thrown_message([&] { read_h5md_series(path, "/observables/none"); });
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_NE(message.find("/observables/none"), std::string::npos) << message;
+}
+
+TEST(H5mdFile, AppearsUnderItsFinalNameOnlyWhenClosed) {
+  TempDir dir;
+  const std::string path = dir.file("traj.h5md");
+  H5mdWriter writer(path, "0.1.0", "scenario", kBox);
+  write_sample_trajectory(writer);
+  writer.flush();
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(fs::exists(path + ".partial"));
+  writer.close();
+  EXPECT_TRUE(fs::exists(path));
+  EXPECT_FALSE(fs::exists(path + ".partial"));
+  EXPECT_THROW(writer.append_body("disk", 400, {0, 0, 0}, {0, 0, 0}), std::logic_error);
+}
+
+TEST(H5mdFile, ChangingParticleCountIsRefused) {
+  TempDir dir;
+  H5mdWriter writer(dir.file("traj.h5md"), "0.1.0", "scenario", kBox);
+  writer.append_particles("disk", 0, {0, 0, 1, 1}, {0, 0, 0, 0});
+  EXPECT_THROW(writer.append_particles("disk", 1, {0, 0}, {0, 0}), std::invalid_argument);
+  EXPECT_THROW(writer.append_particles("disk", 1, {0, 0, 1}, {0, 0, 0}), std::invalid_argument);
+  writer.append_particles("disk", 1, {0, 0, 2, 2}, {0, 0, 0, 0});
+  writer.close();
+  EXPECT_EQ(read_h5md_series(dir.file("traj.h5md"), "/particles/disk/position").step, (std::vector<long>{0, 1}));
+}
+
+TEST(H5mdFile, UncreatableFileIsReportedWithThePath) {
+  TempDir dir;
+  const std::string path = dir.file("missing/traj.h5md");
+  const std::string message = thrown_message([&] { H5mdWriter writer(path, "0.1.0", "scenario", kBox); });
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace lbsolid::server::storage

@@ -1,0 +1,49 @@
+#pragma once
+// A real lbsolidd for end-to-end tests: started as a child process on a free loopback port (the
+// daemon writes the port it bound to --port_file), with its own data directory; stopped with a
+// signal, and its exit status reported.
+#include <grpcpp/grpcpp.h>
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "lbsolid/v1/simulation.grpc.pb.h"
+
+namespace lbsolid::testing {
+
+namespace v1 = ::lbsolid::v1;
+
+class DaemonProcess {
+ public:
+  // data_dir is created if needed and kept (a restart test starts a second daemon on it).
+  explicit DaemonProcess(std::string data_dir, std::vector<std::string> extra_flags = {});
+  ~DaemonProcess();  // kills the daemon if it still runs
+  DaemonProcess(const DaemonProcess&) = delete;
+  DaemonProcess& operator=(const DaemonProcess&) = delete;
+
+  // Sends `signal` and waits for the exit; returns the exit code (128 + signal if killed by one).
+  int stop(int signal);
+  bool running() const { return pid_ > 0; }
+  const std::string& address() const { return address_; }
+  std::unique_ptr<v1::Simulation::Stub> stub() const;
+  std::shared_ptr<grpc::Channel> channel() const { return channel_; }
+
+ private:
+  std::string data_dir_;
+  std::string address_;
+  int pid_ = -1;
+  std::shared_ptr<grpc::Channel> channel_;
+};
+
+// A fresh empty directory under the system temporary directory.
+std::string fresh_directory(const std::string& stem);
+
+// A context whose deadline is `seconds` away.
+std::unique_ptr<grpc::ClientContext> deadline_context(double seconds = 10);
+
+// Polls GetSession until the session is in `state` (true) or `seconds` pass (false).
+bool wait_for_state(v1::Simulation::Stub& stub, const std::string& id, v1::SessionState state, double seconds = 30);
+
+}  // namespace lbsolid::testing

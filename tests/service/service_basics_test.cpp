@@ -1,0 +1,153 @@
+// The daemon on its normal path: server info, the standard health service, server reflection
+// (what grpcurl uses), and a session created, run to DONE and read back, with the fields it
+// returns equal bit for bit to the same scenario run in process by the core.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "google/protobuf/descriptor.pb.h"
+#include "reflection.grpc.pb.h"
+#include "server/api/scenario_translation.h"
+#include "service/daemon_process.h"
+#include "service/test_scenarios.h"
+
+namespace lbsolid::testing {
+namespace {
+
+class ServiceBasics : public ::testing::Test {
+ protected:
+  ServiceBasics() : daemon_(fresh_directory("lbsolid-basics")), stub_(daemon_.stub()) {}
+  DaemonProcess daemon_;
+  std::unique_ptr<v1::Simulation::Stub> stub_;
+};
+
+TEST_F(ServiceBasics, ServerInfoNamesVersionApiAndLimits) {
+  v1::ServerInfo info;
+  auto context = deadline_context();
+  ASSERT_TRUE(stub_->GetServerInfo(context.get(), {}, &info).ok());
+  EXPECT_EQ(info.api_version(), "lbsolid.v1");
+  EXPECT_FALSE(info.version().empty());
+  EXPECT_FALSE(info.git_revision().empty());
+  EXPECT_EQ(info.workers(), 2);
+  EXPECT_GT(info.max_cells(), 0);
+  EXPECT_NE(std::find(info.capabilities().begin(), info.capabilities().end(), "lattice:D2Q7"), info.capabilities().end());
+}
+
+TEST_F(ServiceBasics, HealthServiceSaysServing) {
+  // grpc.health.v1.Health/Check with an empty request (service ""): the answer is
+  // HealthCheckResponse{status: SERVING}, i.e. field 1 varint 1 on the wire.
+  grpc::GenericStub generic(daemon_.channel());
+  grpc::Slice empty_message("");
+  grpc::ByteBuffer request(&empty_message, 1), response;
+  auto context = deadline_context();
+  grpc::Status status;
+  std::mutex mutex;
+  std::condition_variable done_cv;
+  bool done = false;
+  generic.UnaryCall(context.get(), "/grpc.health.v1.Health/Check", grpc::StubOptions(), &request, &response,
+                    [&](grpc::Status s) {
+                      std::lock_guard lock(mutex);
+                      status = s;
+                      done = true;
+                      done_cv.notify_all();
+                    });
+  std::unique_lock lock(mutex);
+  done_cv.wait(lock, [&] { return done; });
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  std::vector<grpc::Slice> slices;
+  ASSERT_TRUE(response.Dump(&slices).ok());
+  std::string bytes;
+  for (const auto& slice : slices) bytes.append(reinterpret_cast<const char*>(slice.begin()), slice.size());
+  EXPECT_EQ(bytes, std::string("\x08\x01", 2));
+}
+
+TEST_F(ServiceBasics, ReflectionListsAndDescribesTheService) {
+  using namespace grpc::reflection::v1alpha;
+  auto reflection = ServerReflection::NewStub(daemon_.channel());
+  auto context = deadline_context();
+  auto stream = reflection->ServerReflectionInfo(context.get());
+  ServerReflectionRequest list;
+  list.set_list_services("");
+  ASSERT_TRUE(stream->Write(list));
+  ServerReflectionResponse listed;
+  ASSERT_TRUE(stream->Read(&listed));
+  std::vector<std::string> services;
+  for (const auto& s : listed.list_services_response().service()) services.push_back(s.name());
+  EXPECT_NE(std::find(services.begin(), services.end(), "lbsolid.v1.Simulation"), services.end());
+  EXPECT_NE(std::find(services.begin(), services.end(), "grpc.health.v1.Health"), services.end());
+
+  // What grpcurl does next: the file that defines the service, with its methods.
+  ServerReflectionRequest symbol;
+  symbol.set_file_containing_symbol("lbsolid.v1.Simulation");
+  ASSERT_TRUE(stream->Write(symbol));
+  ServerReflectionResponse described;
+  ASSERT_TRUE(stream->Read(&described));
+  bool found_step = false;
+  for (const auto& serialized : described.file_descriptor_response().file_descriptor_proto()) {
+    google::protobuf::FileDescriptorProto file;
+    ASSERT_TRUE(file.ParseFromString(serialized));
+    for (const auto& service : file.service())
+      for (const auto& method : service.method()) found_step = found_step || method.name() == "Step";
+  }
+  EXPECT_TRUE(found_step);
+  stream->WritesDone();
+  EXPECT_TRUE(stream->Finish().ok());
+}
+
+TEST_F(ServiceBasics, SessionRunsToDoneAndItsFieldsEqualTheCoreRunInProcess) {
+  const auto scenario = small_channel_with_disk();
+  v1::CreateSessionRequest create;
+  *create.mutable_scenario() = scenario;
+  v1::Session session;
+  {
+    auto context = deadline_context();
+    ASSERT_TRUE(stub_->CreateSession(context.get(), create, &session).ok());
+  }
+  EXPECT_EQ(session.state(), v1::SESSION_STATE_CREATED);
+  EXPECT_EQ(session.cells(), 32 * 16);
+  EXPECT_GT(session.particles(), 0);
+  const std::vector<std::string> stages(session.stages().begin(), session.stages().end());
+  EXPECT_EQ(stages, (std::vector<std::string>{"exchange", "fluid", "loads", "contact", "solid"}));
+
+  v1::RunRequest run;
+  run.set_session_id(session.id());
+  run.set_steps(120);
+  {
+    auto context = deadline_context();
+    ASSERT_TRUE(stub_->Run(context.get(), run, &session).ok());
+  }
+  ASSERT_TRUE(wait_for_state(*stub_, session.id(), v1::SESSION_STATE_DONE));
+
+  v1::GetFieldRequest get;
+  get.set_session_id(session.id());
+  get.add_fields("velocity");
+  get.set_chunk_bytes(1024);  // several chunks for this small grid
+  auto context = deadline_context();
+  auto reader = stub_->GetField(context.get(), get);
+  v1::FieldMessage message;
+  v1::FieldHeader header;
+  std::string bytes;
+  int chunks = 0;
+  while (reader->Read(&message)) {
+    if (message.has_header()) header = message.header();
+    if (message.has_chunk()) {
+      EXPECT_EQ(message.chunk().offset(), static_cast<long>(bytes.size()));
+      bytes += message.chunk().data();
+      ++chunks;
+    }
+  }
+  ASSERT_TRUE(reader->Finish().ok());
+  EXPECT_EQ(header.step(), 120);
+  EXPECT_EQ(std::vector<long>(header.shape().begin(), header.shape().end()), (std::vector<long>{1, 16, 32, 3}));
+  EXPECT_EQ(header.total_bytes(), static_cast<long>(bytes.size()));
+  EXPECT_GT(chunks, 1);
+
+  auto in_process = scene::build_simulation(server::translate_scenario(scenario).scene);
+  in_process->run(120);
+  const auto expected = in_process->fluid_fields().velocity;
+  ASSERT_EQ(bytes.size(), expected.size() * sizeof(double));
+  EXPECT_EQ(0, std::memcmp(bytes.data(), expected.data(), bytes.size()));
+}
+
+}  // namespace
+}  // namespace lbsolid::testing
