@@ -14,6 +14,7 @@ ExitCode exit_code_for(grpc::StatusCode code) {
     case grpc::StatusCode::UNIMPLEMENTED:  // version skew: the same daemon will say it again
     case grpc::StatusCode::PERMISSION_DENIED:
     case grpc::StatusCode::UNAUTHENTICATED:
+    case grpc::StatusCode::DATA_LOSS:  // an unreadable checkpoint stays unreadable
       return kExitBadInput;
     case grpc::StatusCode::UNAVAILABLE:
     case grpc::StatusCode::DEADLINE_EXCEEDED:
@@ -22,7 +23,6 @@ ExitCode exit_code_for(grpc::StatusCode code) {
     case grpc::StatusCode::INTERNAL:
     case grpc::StatusCode::UNKNOWN:
     case grpc::StatusCode::CANCELLED:  // e.g. the daemon shutting down mid-call
-    case grpc::StatusCode::DATA_LOSS:
     default:
       return kExitTransient;
   }
@@ -58,9 +58,9 @@ const char* exit_code_help() {
          "     do not retry\n"
          "  2  bad input: usage error, unreadable or invalid scenario file, or the daemon rejected the\n"
          "     request (INVALID_ARGUMENT, NOT_FOUND, ALREADY_EXISTS, FAILED_PRECONDITION, OUT_OF_RANGE,\n"
-         "     UNIMPLEMENTED, PERMISSION_DENIED, UNAUTHENTICATED); do not retry\n"
+         "     UNIMPLEMENTED, PERMISSION_DENIED, UNAUTHENTICATED, DATA_LOSS); do not retry\n"
          "  3  daemon unreachable or transient failure (UNAVAILABLE, DEADLINE_EXCEEDED,\n"
-         "     RESOURCE_EXHAUSTED, ABORTED, INTERNAL, UNKNOWN, CANCELLED, DATA_LOSS); retry\n"
+         "     RESOURCE_EXHAUSTED, ABORTED, INTERNAL, UNKNOWN, CANCELLED); retry\n"
          "     (submit is idempotent when retried with the same --request-id)\n";
 }
 
