@@ -69,6 +69,10 @@ double wall_position(const Scene& scene, int side) {
   return side % 2 == 0 ? -0.5 * spacing : (n[axis] - 0.5) * spacing;
 }
 
+std::string body_name(const Scene& scene, std::size_t b) {
+  return scene.bodies[b].name.empty() ? "body" + std::to_string(b) : scene.bodies[b].name;
+}
+
 std::vector<std::string> validate_scene(const Scene& scene) {
   std::vector<std::string> errors;
   if (!valid_lattice(scene.lattice)) {
@@ -100,6 +104,14 @@ std::vector<std::string> validate_scene(const Scene& scene) {
     errors.insert(errors.end(), body_errors.begin(), body_errors.end());
     if (body_errors.empty() && box_ok) check_placement(scene, scene.bodies[b], prefix, errors);
   }
+  // Output (H5MD groups, particle streams) names bodies: each name must be unique.
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+    for (std::size_t a = 0; a < b; ++a)
+      if (body_name(scene, a) == body_name(scene, b)) {
+        errors.push_back("bodies[" + std::to_string(b) + "].name: \"" + body_name(scene, b) +
+                         "\" is already the name of bodies[" + std::to_string(a) + "]");
+        break;
+      }
   return errors;
 }
 

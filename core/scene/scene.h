@@ -33,6 +33,9 @@ struct Scene {
   coupling::ExchangeRule exchange = coupling::ExchangeRule::kCommonVelocity;
 };
 
+// The name body b goes by in output: its own, or "body<b>".
+std::string body_name(const Scene& scene, std::size_t b);
+
 // Every problem with the scene, each "<field>: <reason>". Empty when it can run.
 std::vector<std::string> validate_scene(const Scene& scene);
 

@@ -26,8 +26,7 @@ class SimulationImpl final : public Simulation {
     solid_ = std::make_unique<solid::SolidSystem>(L::D);
     for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
       const auto& spec = scene.bodies[b];
-      const std::string name = spec.name.empty() ? "body" + std::to_string(b) : spec.name;
-      solid_->add_body(name, solid::body_labels(spec, L::D), spec.spacing, spec.centre, spec.velocity, spec.load);
+      solid_->add_body(body_name(scene, b), solid::body_labels(spec, L::D), spec.spacing, spec.centre, spec.velocity, spec.load);
       loads_ = loads_ || nonzero(spec.load);
     }
     const int n = solid_->particle_count();

@@ -63,8 +63,8 @@ std::string unknown_enum(const pb::EnumDescriptor* type, int value) {
 // An unknown number (proto3 keeps those) is reported and passed on as the same number, which the
 // core's own checks then reject too (on the same field, so that report is dropped).
 template <class Core, class Proto>
-Core enum_or_report(std::optional<Core> mapped, Proto value, const pb::EnumDescriptor* type,
-                    const std::string& path, Problems& problems) {
+Core enum_or_report(std::optional<Core> mapped, Proto value, const pb::EnumDescriptor* type, const std::string& path,
+                    Problems& problems) {
   if (mapped) return *mapped;
   problems.push_back({path, unknown_enum(type, value)});
   return static_cast<Core>(value);
@@ -135,8 +135,8 @@ void translate_fluid(const v1::Fluid& in, int dimension, scene::Scene& out, Prob
   f.body_force = vec(in.body_force(), dimension);
   f.threads = in.has_threads() ? in.threads() : 1;
   if (f.threads > kMaxThreads)
-    problems.push_back({"scenario.fluid.threads", "must be at most " + std::to_string(kMaxThreads) + ", got " +
-                                                      std::to_string(f.threads)});
+    problems.push_back({"scenario.fluid.threads",
+                        "must be at most " + std::to_string(kMaxThreads) + ", got " + std::to_string(f.threads)});
   f.streaming = enum_or_report(streaming_of(in.streaming()), in.streaming(), v1::Streaming_descriptor(),
                                "scenario.fluid.streaming", problems);
 }

@@ -53,6 +53,18 @@ TEST(SceneValidation, EveryErrorNamesItsField) {
   }
 }
 
+TEST(SceneValidation, BodyNamesAreUniqueDefaultsIncluded) {
+  Scene s = channel();
+  s.bodies.push_back(disk_at(5, 5));   // goes by "body0"
+  s.bodies.push_back(disk_at(14, 5));
+  s.bodies.back().name = "body0";      // clashes with the default name of bodies[0]
+  const auto errors = validate_scene(s);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0], "bodies[1].name: \"body0\" is already the name of bodies[0]");
+  s.bodies.back().name = "second";
+  EXPECT_TRUE(validate_scene(s).empty());
+}
+
 TEST(SceneValidation, SceneWithoutFluidNeedsABodyAndNoBodyForce) {
   Scene s = channel();
   s.with_fluid = false;

@@ -3,6 +3,8 @@
 // or by the core, comes back together with the others and with the field's full proto path.
 // Scenario files parse (text or JSON, errors with line and column), and every file shipped in
 // client-examples/scenarios translates cleanly and runs.
+#include "server/api/scenario_translation.h"
+
 #include <google/protobuf/util/message_differencer.h>
 #include <gtest/gtest.h>
 
@@ -13,7 +15,6 @@
 #include <sstream>
 
 #include "scene/simulation.h"
-#include "server/api/scenario_translation.h"
 
 namespace lbsolid::server {
 namespace {
@@ -41,8 +42,9 @@ int count_starting(const std::vector<std::string>& errors, const std::string& st
       std::count_if(errors.begin(), errors.end(), [&](const std::string& e) { return e.rfind(start, 0) == 0; }));
 }
 
-#define EXPECT_ERROR(errors, start) \
-  EXPECT_EQ(count_starting(errors, start), 1) << "expected one error starting \"" << (start) << "\"; got" << listed(errors)
+#define EXPECT_ERROR(errors, start)           \
+  EXPECT_EQ(count_starting(errors, start), 1) \
+      << "expected one error starting \"" << (start) << "\"; got" << listed(errors)
 
 const char* const kChannel = R"(
   lattice: LATTICE_D2Q7
@@ -122,7 +124,11 @@ TEST(ScenarioTranslation, ExplicitZeroIsNotTheDefault) {
 // ---- Enums.
 
 TEST(ScenarioTranslation, EveryEnumValueIsMapped) {
-  struct LatticeCase { v1::Lattice in; scene::LatticeKind out; int nz; };
+  struct LatticeCase {
+    v1::Lattice in;
+    scene::LatticeKind out;
+    int nz;
+  };
   for (const LatticeCase c : {LatticeCase{v1::LATTICE_UNSPECIFIED, scene::LatticeKind::kD2Q9, 1},
                               LatticeCase{v1::LATTICE_D2Q9, scene::LatticeKind::kD2Q9, 1},
                               LatticeCase{v1::LATTICE_D2Q7, scene::LatticeKind::kD2Q7, 1},
@@ -134,9 +140,10 @@ TEST(ScenarioTranslation, EveryEnumValueIsMapped) {
     EXPECT_TRUE(t.ok()) << v1::Lattice_Name(c.in) << listed(t.errors);
     EXPECT_EQ(t.scene.lattice, c.out) << v1::Lattice_Name(c.in);
   }
-  const std::pair<v1::Precision, scene::Precision> precisions[] = {{v1::PRECISION_UNSPECIFIED, scene::Precision::kDouble},
-                                                                   {v1::PRECISION_DOUBLE, scene::Precision::kDouble},
-                                                                   {v1::PRECISION_FLOAT, scene::Precision::kFloat}};
+  const std::pair<v1::Precision, scene::Precision> precisions[] = {
+      {v1::PRECISION_UNSPECIFIED, scene::Precision::kDouble},
+      {v1::PRECISION_DOUBLE, scene::Precision::kDouble},
+      {v1::PRECISION_FLOAT, scene::Precision::kFloat}};
   for (const auto& [in, out] : precisions) {
     v1::Scenario s = parse("domain { nx: 4 ny: 4 }");
     s.set_precision(in);
@@ -170,9 +177,9 @@ TEST(ScenarioTranslation, WallKindsMapOnEverySide) {
                                                            {"WALL_KIND_FREE_SLIP", fluid::WallKind::kFreeSlip}};
   for (const auto& [name, kind] : kinds) {
     const std::string side = std::string("{ kind: ") + name + " }";
-    const TranslatedScenario t = translate_scenario(parse("lattice: LATTICE_D3Q19 domain { nx: 4 ny: 4 nz: 4 x_low " + side +
-                                                          " x_high " + side + " y_low " + side + " y_high " + side +
-                                                          " z_low " + side + " z_high " + side + " }"));
+    const TranslatedScenario t =
+        translate_scenario(parse("lattice: LATTICE_D3Q19 domain { nx: 4 ny: 4 nz: 4 x_low " + side + " x_high " + side +
+                                 " y_low " + side + " y_high " + side + " z_low " + side + " z_high " + side + " }"));
     for (int s = 0; s < 6; ++s) EXPECT_EQ(t.scene.fluid.sides[s].kind, kind) << name << " on side " << s;
   }
   // Side vectors arrive on their own side.
@@ -196,7 +203,8 @@ TEST(ScenarioTranslation, BodyShapesAndChainAxesMap) {
     bodies { shape: BODY_SHAPE_CHAIN length: 3 axis: AXIS_X centre { x: 8 y: 8 z: 8 } }
     bodies { shape: BODY_SHAPE_CHAIN length: 3 axis: AXIS_Y centre { x: 8 y: 8 z: 8 } }
     bodies { shape: BODY_SHAPE_CHAIN length: 3 axis: AXIS_Z centre { x: 8 y: 8 z: 8 } }
-    bodies { shape: BODY_SHAPE_LABELS labels { i: 0 } labels { i: 1 } labels { i: 1 j: 1 k: 2 } labels { i: 1 j: 1 k: 1 } labels { i: 1 j: 1 } centre { x: 8 y: 8 z: 8 } }
+    bodies { shape: BODY_SHAPE_LABELS centre { x: 8 y: 8 z: 8 }
+             labels { i: 0 } labels { i: 1 } labels { i: 1 j: 1 k: 2 } labels { i: 1 j: 1 k: 1 } labels { i: 1 j: 1 } }
   )"));
   ASSERT_TRUE(t.ok()) << listed(t.errors);
   const auto& b = t.scene.bodies;
@@ -215,15 +223,16 @@ TEST(ScenarioTranslation, BodyShapesAndChainAxesMap) {
   EXPECT_EQ(b[6].labels, (std::vector<solid::Label>{{0, 0, 0}, {1, 0, 0}, {1, 1, 2}, {1, 1, 1}, {1, 1, 0}}));
   EXPECT_EQ(b[0].centre, (solid::Vec3{8, 8, 8}));
   // A 2D rectangle has two extents; the core's third is 1.
-  const TranslatedScenario flat =
-      translate_scenario(parse("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_RECTANGLE size: [3, 2] centre { x: 4 y: 4 } }"));
+  const TranslatedScenario flat = translate_scenario(
+      parse("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_RECTANGLE size: [3, 2] centre { x: 4 y: 4 } }"));
   ASSERT_TRUE(flat.ok()) << listed(flat.errors);
   EXPECT_EQ(flat.scene.bodies[0].size, (std::array<int, 3>{3, 2, 1}));
 }
 
 TEST(ScenarioTranslation, UnknownEnumNumbersAreReported) {
-  EXPECT_EQ(errors_of("lattice: 7 domain { nx: 4 ny: 4 }"),
-            std::vector<std::string>{"scenario.lattice: unknown value 7; use LATTICE_D2Q9, LATTICE_D2Q7 or LATTICE_D3Q19"});
+  EXPECT_EQ(
+      errors_of("lattice: 7 domain { nx: 4 ny: 4 }"),
+      std::vector<std::string>{"scenario.lattice: unknown value 7; use LATTICE_D2Q9, LATTICE_D2Q7 or LATTICE_D3Q19"});
   const auto errors = errors_of(R"(
     precision: 9 exchange: 5
     domain { nx: 4 ny: 4 y_low { kind: 8 } y_high { kind: WALL_KIND_BOUNCE_BACK } }
@@ -247,13 +256,16 @@ TEST(ScenarioTranslation, OmegaOutsideItsRange) {
   EXPECT_ERROR(errors_of("domain { nx: 4 ny: 4 } fluid { omega: 0 }"), "scenario.fluid.omega: must lie in (0, 2)");
   const auto errors = errors_of("domain { nx: 4 ny: 4 } fluid { omega: 2.5 }");
   ASSERT_EQ(errors.size(), 1u) << listed(errors);
-  EXPECT_EQ(errors[0].rfind("scenario.fluid.omega: must lie in (0, 2) for a stable, positive viscosity, got 2.5", 0), 0u)
+  EXPECT_EQ(errors[0].rfind("scenario.fluid.omega: must lie in (0, 2) for a stable, positive viscosity, got 2.5", 0),
+            0u)
       << errors[0];
 }
 
 TEST(ScenarioTranslation, GridProblemsNameTheDomain) {
-  EXPECT_EQ(errors_of("domain { nx: 0 ny: 4 }"), std::vector<std::string>{"scenario.domain.nx: must be at least 1, got 0"});
-  EXPECT_EQ(errors_of("domain { nx: 4 ny: -2 }"), std::vector<std::string>{"scenario.domain.ny: must be at least 1, got -2"});
+  EXPECT_EQ(errors_of("domain { nx: 0 ny: 4 }"),
+            std::vector<std::string>{"scenario.domain.nx: must be at least 1, got 0"});
+  EXPECT_EQ(errors_of("domain { nx: 4 ny: -2 }"),
+            std::vector<std::string>{"scenario.domain.ny: must be at least 1, got -2"});
   EXPECT_EQ(errors_of("lattice: LATTICE_D2Q7"),
             std::vector<std::string>{"scenario.domain: required: the box's nodes along x and y (nx, ny >= 1)"});
   EXPECT_EQ(errors_of("domain { nx: 4 ny: 4 nz: 3 }"),
@@ -272,9 +284,19 @@ TEST(ScenarioTranslation, GridProblemsNameTheDomain) {
 TEST(ScenarioTranslation, BodyOutsideTheDomain) {
   const auto errors = errors_of(channel_with("bodies { shape: BODY_SHAPE_DISK radius: 2 centre { x: 10 y: 1 } }"));
   ASSERT_EQ(errors.size(), 1u) << listed(errors);
-  EXPECT_EQ(errors[0].rfind("scenario.bodies[0].centre: particle at (10, -1) lies on or beyond the y_low wall (at -0.433", 0),
-            0u)
+  EXPECT_EQ(
+      errors[0].rfind("scenario.bodies[0].centre: particle at (10, -1) lies on or beyond the y_low wall (at -0.433", 0),
+      0u)
       << errors[0];
+}
+
+TEST(ScenarioTranslation, DuplicateBodyNamesAreRefused) {
+  // Streams and H5MD files name bodies: two bodies cannot share a name.
+  const auto errors = errors_of(channel_with(
+      "bodies { name: \"disk\" shape: BODY_SHAPE_DISK radius: 2 centre { x: 6 y: 4 } }"
+      "bodies { name: \"disk\" shape: BODY_SHAPE_DISK radius: 2 centre { x: 14 y: 4 } }"));
+  ASSERT_EQ(errors.size(), 1u) << listed(errors);
+  EXPECT_EQ(errors[0], "scenario.bodies[1].name: \"disk\" is already the name of bodies[0]");
 }
 
 TEST(ScenarioTranslation, BodyShapeIsRequired) {
@@ -286,13 +308,16 @@ TEST(ScenarioTranslation, BodyShapeIsRequired) {
 }
 
 TEST(ScenarioTranslation, RectangleSizeHasOneValuePerAxis) {
-  EXPECT_EQ(errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_RECTANGLE size: [2, 2, 2] centre { x: 4 y: 4 } }"),
-            std::vector<std::string>{"scenario.bodies[0].size: a rectangle needs 2 values (particles along x and y), got 3"});
+  EXPECT_EQ(
+      errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_RECTANGLE size: [2, 2, 2] centre { x: 4 y: 4 } }"),
+      std::vector<std::string>{"scenario.bodies[0].size: a rectangle needs 2 values (particles along x and y), got 3"});
   EXPECT_EQ(errors_of("lattice: LATTICE_D3Q19 domain { nx: 8 ny: 8 nz: 8 } "
                       "bodies { shape: BODY_SHAPE_RECTANGLE size: 4 centre { x: 4 y: 4 z: 4 } }"),
-            std::vector<std::string>{"scenario.bodies[0].size: a rectangle needs 3 values (particles along x, y and z), got 1"});
-  EXPECT_ERROR(errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_RECTANGLE size: [0, 3] centre { x: 4 y: 4 } }"),
-               "scenario.bodies[0].size: every extent must be at least 1 particle");
+            std::vector<std::string>{
+                "scenario.bodies[0].size: a rectangle needs 3 values (particles along x, y and z), got 1"});
+  EXPECT_ERROR(
+      errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_RECTANGLE size: [0, 3] centre { x: 4 y: 4 } }"),
+      "scenario.bodies[0].size: every extent must be at least 1 particle");
 }
 
 TEST(ScenarioTranslation, StabilityLimits) {
@@ -335,7 +360,8 @@ TEST(ScenarioTranslation, EveryCoreFieldHasItsProtoPath) {
       {"domain { nx: 4 ny: 4 } fluid { rho0: 0 }", "scenario.fluid.rho0: must be a positive finite density"},
       {"domain { nx: 4 ny: 4 } fluid { threads: 0 }", "scenario.fluid.threads: must be at least 1, got 0"},
       {"domain { nx: 4 ny: 4 } fluid { body_force { x: nan } }", "scenario.fluid.body_force: must be finite"},
-      {"domain { nx: 4 ny: 4 } fluid { enabled: false }", "scenario.bodies: a scene without fluid needs at least one body"},
+      {"domain { nx: 4 ny: 4 } fluid { enabled: false }",
+       "scenario.bodies: a scene without fluid needs at least one body"},
       {"domain { nx: 4 ny: 4 } fluid { enabled: false body_force { x: 1e-5 } } "
        "bodies { shape: BODY_SHAPE_CHAIN length: 2 centre { x: 2 y: 2 } }",
        "scenario.fluid.body_force: is set but the scene has no fluid to push"},
@@ -351,14 +377,17 @@ TEST(ScenarioTranslation, EveryCoreFieldHasItsProtoPath) {
       {"domain { nx: 4 ny: 4 y_low { kind: WALL_KIND_BOUNCE_BACK traction { x: 0.1 } } "
        "y_high { kind: WALL_KIND_BOUNCE_BACK } }",
        "scenario.domain.y_low.traction: is only used by a free-slip wall"},
-      {"lattice: LATTICE_D2Q7 domain { nx: 4 ny: 5 }", "scenario.domain.ny: a hexagonal (D2Q7) lattice periodic in y needs an even ny"},
+      {"lattice: LATTICE_D2Q7 domain { nx: 4 ny: 5 }",
+       "scenario.domain.ny: a hexagonal (D2Q7) lattice periodic in y needs an even ny"},
       {"domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_DISK radius: 0.5 centre { x: 4 y: 4 } }",
        "scenario.bodies[0].radius: must be at least 1"},
       {"domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_CHAIN length: 1 centre { x: 4 y: 4 } }",
        "scenario.bodies[0].length: a chain needs at least 2 particles"},
-      {"domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_LABELS labels { i: 1 } labels { i: 1 } centre { x: 4 y: 4 } }",
+      {"domain { nx: 8 ny: 8 } "
+       "bodies { shape: BODY_SHAPE_LABELS labels { i: 1 } labels { i: 1 } centre { x: 4 y: 4 } }",
        "scenario.bodies[0].labels: label (1, 0, 0) appears twice"},
-      {"domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_LABELS labels { i: 1 } labels { i: 2 k: 1 } centre { x: 4 y: 4 } }",
+      {"domain { nx: 8 ny: 8 } "
+       "bodies { shape: BODY_SHAPE_LABELS labels { i: 1 } labels { i: 2 k: 1 } centre { x: 4 y: 4 } }",
        "scenario.bodies[0].labels: a 2D label has a zero third component"},
       {"domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_CHAIN length: 2 spacing: 0 centre { x: 4 y: 4 } }",
        "scenario.bodies[0].spacing: must be a positive number"},
@@ -375,15 +404,19 @@ TEST(ScenarioTranslation, EveryCoreFieldHasItsProtoPath) {
 
 TEST(ScenarioTranslation, MessageLevelChecks) {
   // A field of another shape.
-  EXPECT_EQ(errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_RECTANGLE size: [2, 2] radius: 3 centre { x: 4 y: 4 } }"),
-            std::vector<std::string>{"scenario.bodies[0].radius: is only used by BODY_SHAPE_DISK, not BODY_SHAPE_RECTANGLE"});
+  EXPECT_EQ(
+      errors_of(
+          "domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_RECTANGLE size: [2, 2] radius: 3 centre { x: 4 y: 4 } }"),
+      std::vector<std::string>{"scenario.bodies[0].radius: is only used by BODY_SHAPE_DISK, not BODY_SHAPE_RECTANGLE"});
   // A chain along z on a 2D lattice, said once and in the API's words.
-  EXPECT_EQ(errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_CHAIN length: 2 axis: AXIS_Z centre { x: 4 y: 4 } }"),
-            std::vector<std::string>{"scenario.bodies[0].axis: AXIS_Z on a 2D lattice; use AXIS_X or AXIS_Y"});
+  EXPECT_EQ(
+      errors_of(
+          "domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_CHAIN length: 2 axis: AXIS_Z centre { x: 4 y: 4 } }"),
+      std::vector<std::string>{"scenario.bodies[0].axis: AXIS_Z on a 2D lattice; use AXIS_X or AXIS_Y"});
   // z of a vector is ignored in 2D (scenario.proto), but a z side's vector is a mistake.
-  const TranslatedScenario t = translate_scenario(parse(
-      "domain { nx: 8 ny: 8 } fluid { body_force { x: 1e-6 z: 3 } } "
-      "bodies { shape: BODY_SHAPE_CHAIN length: 2 centre { x: 4 y: 4 z: 9 } load { z: 1 } }"));
+  const TranslatedScenario t =
+      translate_scenario(parse("domain { nx: 8 ny: 8 } fluid { body_force { x: 1e-6 z: 3 } } "
+                               "bodies { shape: BODY_SHAPE_CHAIN length: 2 centre { x: 4 y: 4 z: 9 } load { z: 1 } }"));
   ASSERT_TRUE(t.ok()) << listed(t.errors);
   EXPECT_EQ(t.scene.fluid.body_force, (fluid::Vec3{1e-6, 0, 0}));
   EXPECT_EQ(t.scene.bodies[0].centre, (solid::Vec3{4, 4, 0}));
@@ -394,20 +427,25 @@ TEST(ScenarioTranslation, MessageLevelChecks) {
 // Sizes that would make validation itself overflow or list billions of labels, or a build start
 // thousands of threads, are refused first.
 TEST(ScenarioTranslation, AbsurdBodiesAreRefusedCheaply) {
-  EXPECT_ERROR(errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_RECTANGLE size: [100000, 100000] centre { x: 4 y: 4 } }"),
-               "scenario.bodies[0].size: 1e+10 particles, more than the limit of 2^24 per body");
-  EXPECT_ERROR(errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_RECTANGLE size: [-100000, -100000] centre { x: 4 y: 4 } }"),
+  EXPECT_ERROR(
+      errors_of(
+          "domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_RECTANGLE size: [100000, 100000] centre { x: 4 y: 4 } }"),
+      "scenario.bodies[0].size: 1e+10 particles, more than the limit of 2^24 per body");
+  EXPECT_ERROR(errors_of("domain { nx: 8 ny: 8 } "
+                         "bodies { shape: BODY_SHAPE_RECTANGLE size: [-100000, -100000] centre { x: 4 y: 4 } }"),
                "scenario.bodies[0].size: every extent must be at least 1 particle");
   EXPECT_EQ(errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_DISK radius: inf centre { x: 4 y: 4 } }"),
             std::vector<std::string>{"scenario.bodies[0].radius: must be a finite number, got inf"});
   EXPECT_ERROR(errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_DISK radius: 1e6 centre { x: 4 y: 4 } }"),
                "scenario.bodies[0].radius: a disk of radius 1e+06 spans");
-  EXPECT_ERROR(errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_CHAIN length: 2000000000 centre { x: 4 y: 4 } }"),
-               "scenario.bodies[0].length: 2000000000 particles, more than the limit");
+  EXPECT_ERROR(
+      errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_CHAIN length: 2000000000 centre { x: 4 y: 4 } }"),
+      "scenario.bodies[0].length: 2000000000 particles, more than the limit");
   EXPECT_EQ(errors_of("domain { nx: 8 ny: 8 } fluid { threads: 100000 }"),
             std::vector<std::string>{"scenario.fluid.threads: must be at most 256, got 100000"});
-  EXPECT_ERROR(errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_LABELS labels { i: 2147483647 } labels { } }"),
-               "scenario.bodies[0].labels[0]: components must lie within +-2^30");
+  EXPECT_ERROR(
+      errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_LABELS labels { i: 2147483647 } labels { } }"),
+      "scenario.bodies[0].labels[0]: components must lie within +-2^30");
 }
 
 // ---- Text.
@@ -447,7 +485,9 @@ TEST(ScenarioText, JsonParsesToTheSameMessageAsText) {
   const v1::Scenario text = parse(R"(
     name: "json twin"
     lattice: LATTICE_D2Q7
-    domain { nx: 20 ny: 10 y_low { kind: WALL_KIND_FREE_SLIP traction { x: -1e-4 } } y_high { kind: WALL_KIND_FREE_SLIP traction { x: 1e-4 } } }
+    domain { nx: 20 ny: 10
+             y_low { kind: WALL_KIND_FREE_SLIP traction { x: -1e-4 } }
+             y_high { kind: WALL_KIND_FREE_SLIP traction { x: 1e-4 } } }
     fluid { omega: 1.2 body_force { x: 1e-6 } threads: 2 }
     bodies { name: "c" shape: BODY_SHAPE_CHAIN length: 4 axis: AXIS_Y spacing: 0.866 centre { x: 5 y: 4 } }
     bodies { shape: BODY_SHAPE_RECTANGLE size: [2, 3] centre { x: 12 y: 4 } }
@@ -480,7 +520,8 @@ TEST(ScenarioText, TextRoundTrip) {
     name: "round trip"
     lattice: LATTICE_D3Q19
     precision: PRECISION_FLOAT
-    domain { nx: 8 ny: 6 nz: 4 z_low { kind: WALL_KIND_MOVING_WALL wall_velocity { x: 0.02 } } z_high { kind: WALL_KIND_BOUNCE_BACK } }
+    domain { nx: 8 ny: 6 nz: 4
+             z_low { kind: WALL_KIND_MOVING_WALL wall_velocity { x: 0.02 } } z_high { kind: WALL_KIND_BOUNCE_BACK } }
     fluid { enabled: true omega: 0 rho0: 2 streaming: STREAMING_TWO_BUFFER }
     bodies { shape: BODY_SHAPE_LABELS labels { i: 0 } labels { i: 1 } spacing: 0.5 load { z: 1e-5 } }
     contact { restitution: 0.25 }
@@ -519,8 +560,9 @@ TEST(ScenarioFiles, EveryFileTranslatesBuildsAndRuns) {
   for (const auto& entry : std::filesystem::directory_iterator(dir))
     if (entry.path().extension() == ".textproto") names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
-  for (const char* expected : {"fig1_bouncing_sheet.textproto", "fig4_pulled_solid.textproto", "fig5_drag_disk.textproto",
-                               "fig6_chains_shear.textproto", "sedimentation_3d.textproto", "poiseuille_channel.textproto"})
+  for (const char* expected :
+       {"fig1_bouncing_sheet.textproto", "fig4_pulled_solid.textproto", "fig5_drag_disk.textproto",
+        "fig6_chains_shear.textproto", "sedimentation_3d.textproto", "poiseuille_channel.textproto"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected << " missing from " << dir;
   for (const std::string& name : names) {
     SCOPED_TRACE(name);

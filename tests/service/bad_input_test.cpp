@@ -29,7 +29,7 @@ grpc::Status drain(Reader& reader) {
 class BadInput : public ::testing::Test {
  protected:
   explicit BadInput(std::vector<std::string> flags = {"--max_sync_steps=50"})
-      : data_dir_(fresh_directory("lbsolid-bad-input")), daemon_(data_dir_, std::move(flags)), stub_(daemon_.stub()) {}
+      : data_dir_("lbsolid-bad-input"), daemon_(data_dir_.path, std::move(flags)), stub_(daemon_.stub()) {}
 
   // Whatever a test sent, the daemon is still there and answers.
   void TearDown() override {
@@ -53,7 +53,7 @@ class BadInput : public ::testing::Test {
     return session.id();
   }
 
-  std::string data_dir_;
+  ScopedDirectory data_dir_;
   DaemonProcess daemon_;
   std::unique_ptr<v1::Simulation::Stub> stub_;
 };

@@ -83,8 +83,9 @@ void expect_same_fields(v1::Simulation::Stub& stub, const std::string& a, const 
 
 class CheckpointRestore : public ::testing::Test {
  protected:
-  CheckpointRestore() : data_dir_(fresh_directory("lbsolid-checkpoint")), daemon_(data_dir_), stub_(daemon_.stub()) {}
-  std::string data_dir_;
+  CheckpointRestore() : dir_("lbsolid-checkpoint"), data_dir_(dir_.path), daemon_(data_dir_), stub_(daemon_.stub()) {}
+  ScopedDirectory dir_;
+  const std::string data_dir_;
   DaemonProcess daemon_;
   std::unique_ptr<v1::Simulation::Stub> stub_;
 };
@@ -212,7 +213,8 @@ long steps_in(v1::Simulation::Stub& stub, double seconds) {
 // with its target. Resumed to the target, its fields equal bit for bit those of a fresh session of
 // the same scenario run there in one go.
 TEST(SigtermRestart, RunningSessionComesBackPausedAndContinuesBitForBit) {
-  const std::string data_dir = fresh_directory("lbsolid-sigterm");
+  const ScopedDirectory dir("lbsolid-sigterm");
+  const std::string& data_dir = dir.path;
   const auto scenario = small_channel_with_disk();
   std::string id;
   long target = 0, seen = 0;
@@ -259,7 +261,8 @@ TEST(SigtermRestart, RunningSessionComesBackPausedAndContinuesBitForBit) {
 // SIGTERM while the session's worker waits for a lossless client that stopped reading: shutdown
 // must not hang on that client; the session is saved at exactly the step where it stood still.
 TEST(SigtermRestart, SessionHeldByAStalledClientIsSavedWhereItStood) {
-  const std::string data_dir = fresh_directory("lbsolid-sigterm-held");
+  const ScopedDirectory dir("lbsolid-sigterm-held");
+  const std::string& data_dir = dir.path;
   const auto scenario = small_channel_with_disk();
   constexpr long kTarget = 5000;
   std::string id;
@@ -316,7 +319,8 @@ TEST(SigtermRestart, SessionHeldByAStalledClientIsSavedWhereItStood) {
 // answer, and a daemon restart is exactly when answers get lost: the session brought back keeps its
 // request id, and the retried call returns it instead of creating a second one.
 TEST(SigtermRestart, RequestIdStillIdentifiesTheSessionAfterARestart) {
-  const std::string data_dir = fresh_directory("lbsolid-sigterm-request-id");
+  const ScopedDirectory dir("lbsolid-sigterm-request-id");
+  const std::string& data_dir = dir.path;
   std::string id;
   {
     DaemonProcess a(data_dir);

@@ -14,7 +14,7 @@ namespace {
 
 class FailureIsolation : public ::testing::Test {
  protected:
-  FailureIsolation() : daemon_(fresh_directory("lbsolid-failure")), stub_(daemon_.stub()) {}
+  FailureIsolation() : data_dir_("lbsolid-failure"), daemon_(data_dir_.path), stub_(daemon_.stub()) {}
 
   std::string create(const v1::Scenario& scenario) {
     v1::Session session;
@@ -23,6 +23,7 @@ class FailureIsolation : public ::testing::Test {
     return session.id();
   }
 
+  ScopedDirectory data_dir_;
   DaemonProcess daemon_;
   std::unique_ptr<v1::Simulation::Stub> stub_;
 };

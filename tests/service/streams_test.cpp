@@ -4,13 +4,20 @@
 // client going away midway, several clients at once, a session deleted under its streams, and two
 // sessions running side by side.
 //
+// Slow clients are checked twice: through a connection with default settings (what the contract
+// promises any client) and through one with a tight HTTP/2 window (tight_window_stub), which takes
+// gRPC's own buffering out of the picture and so checks the daemon's delivery mechanism itself.
+//
 // No assertion depends on how fast the machine is: clients wait for conditions with deadlines, and
 // the latest-frame checks count frames rather than time them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "service/daemon_process.h"
 #include "service/test_scenarios.h"
@@ -24,7 +31,7 @@ constexpr long kChannelCapacity = 8;  // FrameChannel's default: frames a lossle
 
 class Streams : public ::testing::Test {
  protected:
-  Streams() : daemon_(fresh_directory("lbsolid-streams")), stub_(daemon_.stub()) {}
+  Streams() : data_dir_("lbsolid-streams"), daemon_(data_dir_.path), stub_(daemon_.stub()) {}
 
   std::string create(const v1::Scenario& scenario = small_channel_with_disk()) {
     v1::Session session;
@@ -50,6 +57,7 @@ class Streams : public ::testing::Test {
     return stub_->WatchProfiles(context, request);
   }
 
+  ScopedDirectory data_dir_;
   DaemonProcess daemon_;
   std::unique_ptr<v1::Simulation::Stub> stub_;
 };
