@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
   spdlog::info("{}: pausing and checkpointing every session", signal == SIGTERM ? "SIGTERM" : "SIGINT");
   server->GetHealthCheckService()->SetServingStatus(false);
   manager->shutdown();
-  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(2));
+  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
   manager.reset();
   spdlog::info("lbsolidd stopped");
   return 0;

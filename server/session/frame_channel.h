@@ -1,16 +1,18 @@
 #pragma once
 // One client's stream of frames from a session (velocity profiles, particle positions), with the
 // delivery mode it asked for:
-//   every frame  lossless; when the client is `capacity` frames behind, the session's worker waits
-//                for it (the slowest lossless client sets the pace),
+//   every frame  lossless; publish() always queues, and the session's worker does not take its
+//                next step while the client is `capacity` frames behind (wait_for_room(), called
+//                outside the simulation lock, so other calls on the session go on meanwhile),
 //   latest frame the worker never waits; an unread frame is replaced by the newer one and counted,
 //                and each delivered frame carries the count of frames this client missed so far.
+// "Delivered" means handed to gRPC: frames already in the transport's flow-control window count as
+// read (a client wanting a tight bound keeps that window small; see the README).
 // The worker publishes; the stream handler takes frames until the channel is closed (the session
 // ended) or the client goes away (detach: the worker stops waiting for it).
 #include <chrono>
 #include <condition_variable>
 #include <deque>
-#include <functional>
 #include <mutex>
 #include <optional>
 
@@ -27,24 +29,28 @@ class FrameChannel {
   long every() const { return every_; }
   bool due(long step) const { return step % every_ == 0; }
 
-  // Worker side. In lossless mode waits while the client is `capacity` frames behind, unless it
-  // detaches or `abandon()` turns true (the session is pausing or going away): then the frame is
-  // queued anyway, so nothing is lost, and the worker goes on.
-  void publish(Frame frame, const std::function<bool()>& abandon) {
-    std::unique_lock lock(mutex_);
+  // Worker side: queues the frame (latest mode: in place of an unread one). Never waits.
+  void publish(Frame frame) {
+    std::lock_guard lock(mutex_);
     if (detached_ || closed_) return;
-    if (delivery_ == Delivery::kLatestFrame) {
-      if (!queue_.empty()) {
-        queue_.clear();
-        ++skipped_;
-      }
-    } else {
-      while (queue_.size() >= capacity_ && !detached_ && !abandon())
-        room_.wait_for(lock, std::chrono::milliseconds(20));
-      if (detached_) return;
+    if (delivery_ == Delivery::kLatestFrame && !queue_.empty()) {
+      queue_.clear();
+      ++skipped_;
     }
     queue_.push_back(std::move(frame));
     ready_.notify_all();
+  }
+
+  // Worker side: true while a lossless client is `capacity` frames behind.
+  bool full() const {
+    std::lock_guard lock(mutex_);
+    return full_locked();
+  }
+
+  // Worker side: waits until the client has room, goes away, or `timeout` passes; true if room.
+  bool wait_for_room(std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    return room_.wait_for(lock, timeout, [&] { return !full_locked(); });
   }
 
   // Worker side: no more frames will come; the client gets those queued, then the end.
@@ -52,6 +58,7 @@ class FrameChannel {
     std::lock_guard lock(mutex_);
     closed_ = true;
     ready_.notify_all();
+    room_.notify_all();
   }
 
   // Client side: the next frame, or nothing after `timeout` (to let the handler notice a cancelled
@@ -76,12 +83,18 @@ class FrameChannel {
     room_.notify_all();
   }
 
+  bool lossless() const { return delivery_ == Delivery::kEveryFrame; }
+
   bool detached() const {
     std::lock_guard lock(mutex_);
     return detached_;
   }
 
  private:
+  bool full_locked() const {
+    return delivery_ == Delivery::kEveryFrame && !detached_ && !closed_ && queue_.size() >= capacity_;
+  }
+
   const Delivery delivery_;
   const long every_;
   const std::size_t capacity_;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "absl/strings/str_cat.h"
@@ -92,6 +93,9 @@ absl::Status Session::run(long steps) {
   std::lock_guard lock(mutex_);
   if (closed_) return absl::NotFoundError(absl::StrCat("session_id: session ", id_, " was deleted"));
   if (state_ == v1::SESSION_STATE_RUNNING || is_final(state_)) return wrong_state("Run", state_);
+  if (steps > std::numeric_limits<long>::max() - step_)
+    return absl::InvalidArgumentError(absl::StrCat("steps: ", steps, " more steps from step ", step_.load(),
+                                                   " would pass the largest step number"));
   target_ = step_ + steps;
   set_state_locked(v1::SESSION_STATE_RUNNING);
   return absl::OkStatus();
@@ -222,6 +226,9 @@ std::unique_lock<std::mutex> Session::lock_simulation() const {
 
 void Session::advance(std::chrono::milliseconds slice) {
   if (readers_waiting_ > 0) return;  // let them in first; the session is queued again
+  // A lossless client that is behind holds the run back; the wait happens here, outside the
+  // simulation lock, so field reads, checkpoints, pauses and other streams go on meanwhile.
+  if (has_frame_watchers_ && !wait_for_lossless_clients(slice)) return;
   std::lock_guard sim_lock(sim_mutex_);
   const auto start = Clock::now();
   long taken = 0;
@@ -233,12 +240,17 @@ void Session::advance(std::chrono::milliseconds slice) {
     if (!step_once()) return;
     ++taken;
     if (Clock::now() - start >= slice || readers_waiting_ > 0) break;
+    if (lossless_watcher_behind()) break;
   }
   record_rate(taken, Clock::now() - start);
   emit_progress();
 }
 
 absl::StatusOr<StepResult> Session::step_now(long steps, std::chrono::system_clock::time_point deadline) {
+  {
+    std::lock_guard lock(mutex_);  // refuse at once, without waiting for the worker's slice
+    if (state_ == v1::SESSION_STATE_RUNNING || is_final(state_)) return wrong_state("Step", state_);
+  }
   const auto sim_lock = lock_simulation();
   {
     std::lock_guard lock(mutex_);
@@ -337,16 +349,42 @@ void Session::publish_frames(long step) {
     for (const auto& w : particle_watchers_)
       if (w.channel->due(step)) particles.push_back(w);
   }
-  // A lossless client may make us wait; pausing, cancelling or deleting ends the wait.
-  const auto abandon = [this] {
-    std::lock_guard lock(mutex_);
-    return closed_ || state_ != v1::SESSION_STATE_RUNNING;
-  };
   if (!profiles.empty()) {
     const auto frame = profile_frame();  // computed once for every due client
-    for (const auto& w : profiles) w->publish(frame, abandon);
+    for (const auto& w : profiles) w->publish(frame);
   }
-  for (const auto& w : particles) w.channel->publish(particle_frame(w.bodies), abandon);
+  for (const auto& w : particles) w.channel->publish(particle_frame(w.bodies));
+}
+
+bool Session::lossless_watcher_behind() const {
+  if (!has_frame_watchers_) return false;
+  std::lock_guard lock(mutex_);
+  for (const auto& w : profile_watchers_)
+    if (w->full()) return true;
+  for (const auto& w : particle_watchers_)
+    if (w.channel->full()) return true;
+  return false;
+}
+
+bool Session::wait_for_lossless_clients(std::chrono::milliseconds timeout) {
+  std::vector<std::shared_ptr<FrameChannel<v1::ProfileFrame>>> profiles;
+  std::vector<std::shared_ptr<FrameChannel<v1::ParticleFrame>>> particles;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& w : profile_watchers_)
+      if (w->full()) profiles.push_back(w);
+    for (const auto& w : particle_watchers_)
+      if (w.channel->full()) particles.push_back(w.channel);
+  }
+  const auto give_up = Clock::now() + timeout;
+  const auto left = [&] {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(std::max(Clock::duration::zero(), give_up - Clock::now()));
+  };
+  for (const auto& w : profiles)
+    if (!w->wait_for_room(left())) return false;
+  for (const auto& w : particles)
+    if (!w->wait_for_room(left())) return false;
+  return true;
 }
 
 std::shared_ptr<EventChannel> Session::watch_events(std::chrono::milliseconds progress_interval) {
@@ -369,7 +407,7 @@ absl::StatusOr<std::shared_ptr<FrameChannel<v1::ProfileFrame>>> Session::watch_p
   if (!sim_->has_fluid()) return absl::FailedPreconditionError("WatchProfiles: the scenario has no fluid");
   auto channel = std::make_shared<FrameChannel<v1::ProfileFrame>>(delivery, every);
   const auto sim_lock = lock_simulation();  // between two steps: the first frame is the current state
-  channel->publish(profile_frame(), [] { return true; });
+  channel->publish(profile_frame());
   std::lock_guard lock(mutex_);
   if (closed_ || is_final(state_) || state_ == v1::SESSION_STATE_DONE) {
     channel->close();
@@ -398,7 +436,7 @@ absl::StatusOr<std::shared_ptr<FrameChannel<v1::ParticleFrame>>> Session::watch_
   }
   auto channel = std::make_shared<FrameChannel<v1::ParticleFrame>>(delivery, every);
   const auto sim_lock = lock_simulation();
-  channel->publish(particle_frame(bodies), [] { return true; });
+  channel->publish(particle_frame(bodies));
   std::lock_guard lock(mutex_);
   if (closed_ || is_final(state_) || state_ == v1::SESSION_STATE_DONE) {
     channel->close();

@@ -108,6 +108,10 @@ class Session {
   // session failed.
   bool step_once();
   void publish_frames(long step);
+  // True while a lossless watcher is `capacity` frames behind.
+  bool lossless_watcher_behind() const;
+  // Waits until every lossless watcher has room, or `timeout`; true if all have room.
+  bool wait_for_lossless_clients(std::chrono::milliseconds timeout);
   v1::ProfileFrame profile_frame() const;
   v1::ParticleFrame particle_frame(const std::vector<int>& bodies) const;
   void fail(long step, const std::string& cause);

@@ -47,6 +47,7 @@ SessionManager::SessionManager(std::string data_dir, ManagerLimits limits, stora
     : data_dir_(std::move(data_dir)), limits_(limits), writer_(std::move(writer)) {
   fs::create_directories(fs::path(data_dir_) / "sessions");
   fs::create_directories(fs::path(data_dir_) / "checkpoints");
+  remove_partial_writes();
   // New ids never reuse one that has files on disk.
   for (const char* sub : {"sessions", "checkpoints"})
     for (const auto& entry : fs::directory_iterator(fs::path(data_dir_) / sub))
@@ -57,6 +58,17 @@ SessionManager::SessionManager(std::string data_dir, ManagerLimits limits, stora
 SessionManager::~SessionManager() {
   for (const auto& session : list()) session->close();
   stop_workers();
+}
+
+// A checkpoint is written as <file>.tmp-<pid> and renamed; a daemon killed mid-write leaves the
+// temporary file behind (the old checkpoint is intact). Nothing else writes there: remove them.
+void SessionManager::remove_partial_writes() {
+  for (const auto& entry : fs::recursive_directory_iterator(data_dir_)) {
+    if (!entry.is_regular_file() || entry.path().filename().string().find(".tmp-") == std::string::npos) continue;
+    std::error_code ignored;
+    fs::remove(entry.path(), ignored);
+    spdlog::warn("removed {}: a checkpoint write interrupted by an earlier daemon", entry.path().string());
+  }
 }
 
 std::string SessionManager::next_id() { return absl::StrFormat("s-%06d", next_number_++); }
@@ -296,6 +308,7 @@ void SessionManager::shutdown() {
     } catch (const std::exception& e) {
       spdlog::error("session {}: could not be saved: {}", session->id(), e.what());
     }
+    session->close();  // its streams end now, so the server's shutdown need not wait for them
   }
 }
 

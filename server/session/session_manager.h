@@ -64,6 +64,7 @@ class SessionManager {
   absl::StatusOr<std::shared_ptr<Session>> build(SessionSetup setup);
   absl::Status admit(const std::string& request_id, const v1::Scenario& scenario, std::shared_ptr<Session>* existing);
   std::string next_id();
+  void remove_partial_writes();
   void schedule(const std::shared_ptr<Session>& session);
   void work();
   void stop_workers();

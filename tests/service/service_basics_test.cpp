@@ -16,7 +16,8 @@ namespace {
 
 class ServiceBasics : public ::testing::Test {
  protected:
-  ServiceBasics() : daemon_(fresh_directory("lbsolid-basics")), stub_(daemon_.stub()) {}
+  ServiceBasics() : data_dir_("lbsolid-basics"), daemon_(data_dir_.path), stub_(daemon_.stub()) {}
+  ScopedDirectory data_dir_;
   DaemonProcess daemon_;
   std::unique_ptr<v1::Simulation::Stub> stub_;
 };
