@@ -150,5 +150,80 @@ TEST_F(ServiceBasics, SessionRunsToDoneAndItsFieldsEqualTheCoreRunInProcess) {
   EXPECT_EQ(0, std::memcmp(bytes.data(), expected.data(), bytes.size()));
 }
 
+// The lifecycle calls on their normal path: Step (synchronous), Run, Pause, Resume, Cancel,
+// ListSessions and DeleteSession, each leaving the state DESIGN.md gives it.
+TEST_F(ServiceBasics, LifecycleCallsMoveTheSessionThroughItsStates) {
+  v1::CreateSessionRequest create;
+  *create.mutable_scenario() = small_channel_with_disk();
+  v1::Session session;
+  ASSERT_TRUE(stub_->CreateSession(deadline_context().get(), create, &session).ok());
+  const std::string id = session.id();
+
+  v1::StepRequest step;
+  step.set_session_id(id);
+  step.set_steps(7);
+  v1::StepResponse stepped;
+  ASSERT_TRUE(stub_->Step(deadline_context().get(), step, &stepped).ok());
+  EXPECT_EQ(stepped.steps_taken(), 7);
+  EXPECT_FALSE(stepped.deadline_reached());
+  EXPECT_EQ(stepped.session().step(), 7);
+  EXPECT_EQ(stepped.session().state(), v1::SESSION_STATE_PAUSED);
+
+  v1::RunRequest run;
+  run.set_session_id(id);
+  run.set_steps(1000000);  // long enough to pause it midway
+  ASSERT_TRUE(stub_->Run(deadline_context().get(), run, &session).ok());
+  EXPECT_EQ(session.target_step(), 1000007);
+  v1::PauseRequest pause;
+  pause.set_session_id(id);
+  ASSERT_TRUE(stub_->Pause(deadline_context().get(), pause, &session).ok());
+  EXPECT_EQ(session.state(), v1::SESSION_STATE_PAUSED);
+  v1::GetSessionRequest get;
+  get.set_session_id(id);
+  v1::Session first, second;
+  ASSERT_TRUE(stub_->GetSession(deadline_context().get(), get, &first).ok());
+  ASSERT_TRUE(stub_->GetSession(deadline_context().get(), get, &second).ok());
+  EXPECT_EQ(first.step(), second.step());  // paused: it does not move
+  EXPECT_LT(first.step(), 1000007);
+
+  v1::ResumeRequest resume;
+  resume.set_session_id(id);
+  ASSERT_TRUE(stub_->Resume(deadline_context().get(), resume, &session).ok());
+  EXPECT_EQ(session.state(), v1::SESSION_STATE_RUNNING);
+  v1::CancelRequest cancel;
+  cancel.set_session_id(id);
+  ASSERT_TRUE(stub_->Cancel(deadline_context().get(), cancel, &session).ok());
+  EXPECT_EQ(session.state(), v1::SESSION_STATE_CANCELLED);
+
+  v1::ListSessionsResponse list;
+  ASSERT_TRUE(stub_->ListSessions(deadline_context().get(), {}, &list).ok());
+  ASSERT_EQ(list.sessions_size(), 1);
+  EXPECT_EQ(list.sessions(0).id(), id);
+  v1::DeleteSessionRequest remove;
+  remove.set_session_id(id);
+  v1::DeleteSessionResponse removed;
+  ASSERT_TRUE(stub_->DeleteSession(deadline_context().get(), remove, &removed).ok());
+  EXPECT_EQ(stub_->GetSession(deadline_context().get(), get, &session).error_code(), grpc::StatusCode::NOT_FOUND);
+}
+
+// Step honours the call's deadline: asked for more steps than fit, it stops before the deadline,
+// answers in time, and the session holds exactly the steps it reports.
+TEST_F(ServiceBasics, StepStopsBeforeTheDeadline) {
+  v1::CreateSessionRequest create;
+  *create.mutable_scenario() = small_channel_with_disk(256, 128);  // ~1 ms per step
+  v1::Session session;
+  ASSERT_TRUE(stub_->CreateSession(deadline_context().get(), create, &session).ok());
+  v1::StepRequest step;
+  step.set_session_id(session.id());
+  step.set_steps(10000);
+  v1::StepResponse stepped;
+  const auto status = stub_->Step(deadline_context(0.5).get(), step, &stepped);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  EXPECT_TRUE(stepped.deadline_reached());
+  EXPECT_GT(stepped.steps_taken(), 0);
+  EXPECT_LT(stepped.steps_taken(), 10000);
+  EXPECT_EQ(stepped.session().step(), stepped.steps_taken());
+}
+
 }  // namespace
 }  // namespace lbsolid::testing
