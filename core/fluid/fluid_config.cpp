@@ -15,6 +15,15 @@ const char* wall_kind_name(WallKind kind) {
   return "unknown";
 }
 
+const char* collision_model_name(CollisionModel model) {
+  switch (model) {
+    case CollisionModel::kBgk: return "bgk";
+    case CollisionModel::kTrt: return "trt";
+    case CollisionModel::kRegularized: return "regularized";
+  }
+  return "unknown";
+}
+
 const char* side_name(int side) {
   static constexpr const char* names[6] = {"x_low", "x_high", "y_low", "y_high", "z_low", "z_high"};
   return side >= 0 && side < 6 ? names[side] : "unknown";

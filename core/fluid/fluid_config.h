@@ -29,6 +29,16 @@ enum class StreamingScheme {
   kTwoBuffer,  // two buffers, pull from one and write the other
 };
 
+// The collision operator (MODEL.md uses BGK, the paper's).
+enum class CollisionModel {
+  kBgk,          // single relaxation time omega
+  kTrt,          // two relaxation times: omega for the symmetric part, omega_minus for the
+                 // antisymmetric one, set by the magic parameter Lambda = (1/omega - 1/2)(1/omega_minus - 1/2)
+  kRegularized,  // BGK on the populations rebuilt from rho, u and the non-equilibrium stress
+};
+
+const char* collision_model_name(CollisionModel model);
+
 // Sides in the order x_low, x_high, y_low, y_high, z_low, z_high.
 enum Side { kXLow = 0, kXHigh, kYLow, kYHigh, kZLow, kZHigh };
 const char* side_name(int side);
@@ -41,6 +51,8 @@ struct FluidConfig {
   Vec3 body_force{0, 0, 0};  // force per node (momentum added per node per step)
   int threads = 1;           // worker threads for the fused kernel
   StreamingScheme streaming = StreamingScheme::kInPlace;
+  CollisionModel collision = CollisionModel::kBgk;
+  double trt_magic = 3.0 / 16.0;  // TRT's Lambda: 3/16 puts bounce-back walls exactly half-way (Poiseuille)
 };
 
 // Every problem with `config` for a lattice of dimension `dimension`, each as
