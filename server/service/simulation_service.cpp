@@ -115,28 +115,26 @@ grpc::Status SimulationService::Step(grpc::ServerContext* context, const v1::Ste
 }
 
 grpc::Status SimulationService::Pause(grpc::ServerContext*, const v1::PauseRequest* request, v1::Session* response) {
-  if (auto s = require_id(request->session_id()); !s.ok()) return s;
-  auto session = manager_.find(request->session_id());
-  if (!session.ok()) return to_grpc(session.status());
-  if (auto status = (*session)->pause(); !status.ok()) return to_grpc(status);
-  *response = (*session)->describe();
-  return grpc::Status::OK;
+  return change_state(request->session_id(), &Session::pause, response);
 }
 
 grpc::Status SimulationService::Resume(grpc::ServerContext*, const v1::ResumeRequest* request, v1::Session* response) {
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   if (auto status = manager_.resume(request->session_id()); !status.ok()) return to_grpc(status);
-  auto session = manager_.find(request->session_id());
-  if (!session.ok()) return to_grpc(session.status());
-  *response = (*session)->describe();
-  return grpc::Status::OK;
+  return change_state(request->session_id(), nullptr, response);
 }
 
 grpc::Status SimulationService::Cancel(grpc::ServerContext*, const v1::CancelRequest* request, v1::Session* response) {
-  if (auto s = require_id(request->session_id()); !s.ok()) return s;
-  auto session = manager_.find(request->session_id());
+  return change_state(request->session_id(), &Session::cancel, response);
+}
+
+grpc::Status SimulationService::change_state(const std::string& id, absl::Status (Session::*change)(),
+                                             v1::Session* response) {
+  if (auto s = require_id(id); !s.ok()) return s;
+  auto session = manager_.find(id);
   if (!session.ok()) return to_grpc(session.status());
-  if (auto status = (*session)->cancel(); !status.ok()) return to_grpc(status);
+  if (change)
+    if (auto status = ((**session).*change)(); !status.ok()) return to_grpc(status);
   *response = (*session)->describe();
   return grpc::Status::OK;
 }

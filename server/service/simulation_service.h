@@ -34,6 +34,9 @@ class SimulationService final : public v1::Simulation::Service {
   grpc::Status GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*, v1::ServerInfo*) override;
 
  private:
+  // Applies `change` (if any) to the session and answers with its description.
+  grpc::Status change_state(const std::string& id, absl::Status (Session::*change)(), v1::Session* response);
+
   SessionManager& manager_;
 };
 

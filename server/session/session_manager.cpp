@@ -116,20 +116,30 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::build(SessionSetup setu
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::create(const v1::Scenario& scenario,
                                                                 const std::string& request_id) {
   std::lock_guard lock(mutex_);  // one creation at a time: ids and request ids stay consistent
+  auto session = add_locked(scenario, request_id, [](Session&) { return absl::OkStatus(); });
+  if (session.ok())
+    spdlog::info("session {}: created \"{}\" ({} fluid nodes, {} particles, stages {})", (*session)->id(),
+                 scenario.name(), (*session)->cells(), (*session)->describe().particles(),
+                 absl::StrJoin((*session)->describe().stages(), ","));
+  return session;
+}
+
+absl::StatusOr<std::shared_ptr<Session>> SessionManager::add_locked(
+    const v1::Scenario& scenario, const std::string& request_id,
+    const std::function<absl::Status(Session&)>& prepare) {
   std::shared_ptr<Session> existing;
   if (auto admitted = admit(request_id, scenario, &existing); !admitted.ok()) return admitted;
   if (existing) return existing;
   SessionSetup setup{next_id(), request_id, scenario, translate_scenario(scenario), unix_ms_now()};
   auto session = build(std::move(setup));
+  if (session.ok())
+    if (auto prepared = prepare(**session); !prepared.ok()) session = prepared;
   if (!session.ok()) {
-    --next_number_;
+    --next_number_;  // the id was not used
     return session.status();
   }
   sessions_[(*session)->id()] = *session;
   if (!request_id.empty()) by_request_id_[request_id] = (*session)->id();
-  spdlog::info("session {}: created \"{}\" ({} fluid nodes, {} particles, stages {})", (*session)->id(),
-               scenario.name(), (*session)->cells(), (*session)->describe().particles(),
-               absl::StrJoin((*session)->describe().stages(), ","));
   return session;
 }
 
@@ -267,23 +277,15 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::restore(const std::stri
     return absl::DataLossError(absl::StrCat("checkpoint_id: its scenario does not parse: ", error));
 
   std::lock_guard lock(mutex_);
-  std::shared_ptr<Session> existing;
-  if (auto admitted = admit(request_id, scenario, &existing); !admitted.ok()) return admitted;
-  if (existing) return existing;
-  SessionSetup setup{next_id(), request_id, scenario, translate_scenario(scenario), unix_ms_now()};
-  auto session = build(std::move(setup));
-  if (!session.ok()) {
-    --next_number_;
-    return session.status();
-  }
-  try {
-    (*session)->restore(contents.state, contents.target_step, v1::SESSION_STATE_PAUSED);
-  } catch (const std::invalid_argument& e) {
-    --next_number_;
-    return absl::DataLossError(absl::StrCat("checkpoint_id: ", e.what()));
-  }
-  sessions_[(*session)->id()] = *session;
-  if (!request_id.empty()) by_request_id_[request_id] = (*session)->id();
+  auto session = add_locked(scenario, request_id, [&](Session& fresh) {
+    try {
+      fresh.restore(contents.state, contents.target_step, v1::SESSION_STATE_PAUSED);
+      return absl::OkStatus();
+    } catch (const std::invalid_argument& e) {
+      return absl::DataLossError(absl::StrCat("checkpoint_id: ", e.what()));
+    }
+  });
+  if (!session.ok()) return session;
   spdlog::info("session {}: restored from {} at step {}", (*session)->id(), checkpoint_id, contents.state.step);
   return session;
 }

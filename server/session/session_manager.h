@@ -9,6 +9,7 @@
 //   sessions/<session id>/session.h5          written at shutdown, read at start
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -62,6 +63,9 @@ class SessionManager {
 
  private:
   absl::StatusOr<std::shared_ptr<Session>> build(SessionSetup setup);
+  // Admits (request id, limits), builds, prepares (e.g. restores a state) and registers a session.
+  absl::StatusOr<std::shared_ptr<Session>> add_locked(const v1::Scenario& scenario, const std::string& request_id,
+                                                      const std::function<absl::Status(Session&)>& prepare);
   absl::Status admit(const std::string& request_id, const v1::Scenario& scenario, std::shared_ptr<Session>* existing);
   std::string next_id();
   void remove_partial_writes();
