@@ -3,50 +3,14 @@
 // scheme, with fluid, bodies, walls and contact; a state from another scene is refused by name.
 #include <gtest/gtest.h>
 
-#include <cstring>
-
+#include "scene/restart_support.h"
 #include "scene/simulation.h"
 
 namespace lbsolid::scene {
 namespace {
 
-Scene coupled_scene(LatticeKind lattice, Precision precision, fluid::StreamingScheme streaming) {
-  Scene s;
-  s.lattice = lattice;
-  s.precision = precision;
-  const bool three_d = lattice == LatticeKind::kD3Q19;
-  s.fluid.nx = 16;
-  s.fluid.ny = 12;
-  s.fluid.nz = three_d ? 6 : 1;
-  s.fluid.omega = 1.3;
-  s.fluid.streaming = streaming;
-  s.fluid.body_force = {2e-6, 0, 0};
-  s.fluid.sides[fluid::kYLow].kind = fluid::WallKind::kBounceBack;
-  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kMovingWall;
-  s.fluid.sides[fluid::kYHigh].wall_velocity = {0.01, 0, 0};
-  solid::BodySpec disk;
-  disk.shape = solid::BodyShape::kDisk;
-  disk.radius = 2;
-  disk.centre = {6, 5, three_d ? 3.0 : 0.0};
-  disk.load = {1e-4, -2e-4, 0};
-  s.bodies.push_back(disk);
-  return s;
-}
-
-// Bitwise equality of everything a run changes, compared through the saved states.
-void expect_identical(const SimulationState& a, const SimulationState& b) {
-  ASSERT_EQ(a.step, b.step);
-  ASSERT_EQ(a.fluid.populations.size(), b.fluid.populations.size());
-  EXPECT_EQ(0, std::memcmp(a.fluid.populations.data(), b.fluid.populations.data(),
-                           a.fluid.populations.size() * sizeof(double)));
-  EXPECT_EQ(a.fluid.pulled, b.fluid.pulled);
-  EXPECT_EQ(a.fluid.current, b.fluid.current);
-  ASSERT_EQ(a.solid.positions.size(), b.solid.positions.size());
-  ASSERT_EQ(a.solid.incoming.size(), b.solid.incoming.size());
-  EXPECT_EQ(0, std::memcmp(a.solid.positions.data(), b.solid.positions.data(), a.solid.positions.size() * sizeof(Vec3)));
-  EXPECT_EQ(0, std::memcmp(a.solid.incoming.data(), b.solid.incoming.data(), a.solid.incoming.size() * sizeof(Vec3)));
-  EXPECT_EQ(0, std::memcmp(a.solid.momentum.data(), b.solid.momentum.data(), a.solid.momentum.size() * sizeof(Vec3)));
-}
+using testing::coupled_scene;
+using testing::expect_same_state;
 
 struct Case {
   LatticeKind lattice;
@@ -70,7 +34,7 @@ TEST_P(RestartTest, SavedAndRestoredRunContinuesBitForBit) {
   second->load_state(saved);
   EXPECT_EQ(second->step_count(), n);
   second->run(n);
-  expect_identical(straight->save_state(), second->save_state());
+  expect_same_state(straight->save_state(), second->save_state());
   // Not trivially equal: the run moved the body and the fluid.
   EXPECT_NE(saved.solid.positions[0][0], second->save_state().solid.positions[0][0]);
 }
@@ -95,7 +59,7 @@ TEST(SimulationState, SolidOnlySceneRestartsBitForBit) {
   auto second = build_simulation(s);
   second->load_state(first->save_state());
   second->run(27);
-  expect_identical(straight->save_state(), second->save_state());
+  expect_same_state(straight->save_state(), second->save_state());
 }
 
 TEST(SimulationState, StateOfAnotherSceneIsRefusedByName) {

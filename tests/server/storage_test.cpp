@@ -13,6 +13,7 @@
 #include <map>
 #include <thread>
 
+#include "scene/restart_support.h"
 #include "scene/simulation.h"
 #include "server/storage/checkpoint_file.h"
 #include "server/storage/field_snapshot.h"
@@ -24,6 +25,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using scene::LatticeKind;
+using scene::testing::coupled_scene;
+using scene::testing::expect_same_state;
+using scene::testing::same_bytes;
 using scene::Precision;
 
 // A fresh directory under the system temporary directory, removed with everything in it.
@@ -68,28 +72,6 @@ std::string thrown_message(F&& action) {
   return "(nothing thrown)";
 }
 
-scene::Scene coupled_scene(LatticeKind lattice, Precision precision) {
-  scene::Scene s;
-  s.lattice = lattice;
-  s.precision = precision;
-  const bool three_d = lattice == LatticeKind::kD3Q19;
-  s.fluid.nx = 16;
-  s.fluid.ny = 12;
-  s.fluid.nz = three_d ? 6 : 1;
-  s.fluid.omega = 1.3;
-  s.fluid.body_force = {2e-6, 0, 0};
-  s.fluid.sides[fluid::kYLow].kind = fluid::WallKind::kBounceBack;
-  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kMovingWall;
-  s.fluid.sides[fluid::kYHigh].wall_velocity = {0.01, 0, 0};
-  solid::BodySpec disk;
-  disk.shape = solid::BodyShape::kDisk;
-  disk.radius = 2;
-  disk.centre = {6, 5, three_d ? 3.0 : 0.0};
-  disk.load = {1e-4, -2e-4, 0};
-  s.bodies.push_back(disk);
-  return s;
-}
-
 CheckpointContents contents_of(const scene::Simulation& simulation) {
   CheckpointContents contents;
   contents.scenario_text = "fluid {\n  nx: 16\n  omega: 1.3\n}\nname: \"disk \\\"one\\\"\"\n\n";
@@ -101,27 +83,6 @@ CheckpointContents contents_of(const scene::Simulation& simulation) {
 }
 
 const WriterInfo kWriter{"0.1.0", "abc1234"};
-
-template <class T>
-bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
-
-void expect_same_state(const scene::SimulationState& a, const scene::SimulationState& b) {
-  EXPECT_EQ(a.step, b.step);
-  EXPECT_EQ(a.has_fluid, b.has_fluid);
-  EXPECT_EQ(a.fluid.steps, b.fluid.steps);
-  EXPECT_EQ(a.fluid.current, b.fluid.current);
-  EXPECT_EQ(a.fluid.pulled, b.fluid.pulled);
-  EXPECT_EQ(a.fluid.stepped, b.fluid.stepped);
-  EXPECT_EQ(a.fluid.buffers, b.fluid.buffers);
-  EXPECT_EQ(a.fluid.cells, b.fluid.cells);
-  EXPECT_TRUE(same_bytes(a.fluid.populations, b.fluid.populations));
-  EXPECT_EQ(a.has_solid, b.has_solid);
-  EXPECT_TRUE(same_bytes(a.solid.positions, b.solid.positions));
-  EXPECT_TRUE(same_bytes(a.solid.incoming, b.solid.incoming));
-  EXPECT_TRUE(same_bytes(a.solid.momentum, b.solid.momentum));
-}
 
 // --- checkpoints ------------------------------------------------------------------------------
 
