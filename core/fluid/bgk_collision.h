@@ -11,6 +11,7 @@
 // The collision must be inlined into the cell loop for that loop to vectorise.
 #define LBSOLID_FORCE_INLINE inline __attribute__((always_inline))
 
+#include "fluid/fluid_config.h"
 #include "lattice/lattice_traits.h"
 
 namespace lbsolid::fluid {
@@ -19,6 +20,9 @@ template <class L, class T>
 struct BgkCollision {
   static constexpr int Q = L::Q;
   static constexpr T kInvCs2 = T(1.0 / L::cs2);
+  // What the kernels hand to collide() for every cell (TRT needs two rates; BGK has one).
+  using Rates = T;
+  static Rates rates(const FluidConfig& config) { return static_cast<T>(config.omega); }
 
   // s + c_{I,A} v, with c = 0 and c = +-1 resolved at compile time. Sums start from -0.0, the
   // exact identity of floating-point addition, so the first term needs no special case.

@@ -10,7 +10,7 @@ namespace lbsolid::fluid {
 template <class L, class T, class Collision, bool kForce, bool kCorrections>
 LBSOLID_FORCE_INLINE void update_cells(const T* const (&in)[L::Q], const T (&in_correction)[L::Q],
                                        T* const (&out)[L::Q], const T (&out_correction)[L::Q],
-                                       const T (&force)[3], T omega, T rho0, long begin, long end) {
+                                       const T (&force)[3], typename Collision::Rates rates, T rho0, long begin, long end) {
   constexpr int Q = L::Q;
   // Distinct cells never share a slot (in place, a cell writes only the slots it read).
 #pragma GCC ivdep
@@ -18,7 +18,7 @@ LBSOLID_FORCE_INLINE void update_cells(const T* const (&in)[L::Q], const T (&in_
     T f[Q];
 #pragma GCC unroll 32
     for (int i = 0; i < Q; ++i) f[i] = kCorrections ? in[i][c] + in_correction[i] : in[i][c];
-    Collision::template collide<kForce>(f, omega, rho0, force);
+    Collision::template collide<kForce>(f, rates, rho0, force);
 #pragma GCC unroll 32
     for (int i = 0; i < Q; ++i) out[i][c] = kCorrections ? f[i] + out_correction[i] : f[i];
   }

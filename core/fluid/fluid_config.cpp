@@ -72,6 +72,15 @@ std::vector<std::string> validate_fluid_config(const FluidConfig& config, int di
     error("streaming", "unknown scheme " + std::to_string(static_cast<int>(config.streaming)) +
                            "; use in-place or two-buffer");
   }
+  if (config.collision != CollisionModel::kBgk && config.collision != CollisionModel::kTrt &&
+      config.collision != CollisionModel::kRegularized) {
+    error("collision", "unknown model " + std::to_string(static_cast<int>(config.collision)) +
+                           "; use bgk, trt or regularized");
+  }
+  // Checked whatever the model, so that a scene switching to TRT later cannot carry a bad value.
+  if (!(config.trt_magic > 0.0) || !std::isfinite(config.trt_magic)) {
+    error("trt_magic", "must be positive, got " + std::to_string(config.trt_magic));
+  }
   const int axes = dimension;
   for (int side = 0; side < 6; ++side) {
     const SideBoundary& b = config.sides[side];

@@ -45,7 +45,7 @@ const char* side_name(int side);
 
 struct FluidConfig {
   int nx = 1, ny = 1, nz = 1;  // nodes per axis (nz = 1 in 2D)
-  double omega = 1.0;          // BGK relaxation rate, in (0, 2)
+  double omega = 1.0;          // relaxation rate (TRT: of the even part), in (0, 2)
   double rho0 = 1.0;           // reference density: storage offset and moving-wall density
   std::array<SideBoundary, 6> sides{};
   Vec3 body_force{0, 0, 0};  // force per node (momentum added per node per step)

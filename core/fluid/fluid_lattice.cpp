@@ -5,7 +5,9 @@
 
 #include "fluid/bgk_collision.h"
 #include "fluid/in_place_kernel.h"
+#include "fluid/regularized_collision.h"
 #include "fluid/stream_collide_kernel.h"
+#include "fluid/trt_collision.h"
 #include "lattice/d2q7.h"
 #include "lattice/d2q9.h"
 #include "lattice/d3q19.h"
@@ -174,38 +176,49 @@ void FluidLattice<L, T>::initialize_uniform(double density, const Vec3& velocity
 }
 
 template <class L, class T>
-void FluidLattice<L, T>::step() {
-  using Collision = BgkCollision<L, T>;
-  const T omega = static_cast<T>(config_.omega);
+template <class Collision>
+void FluidLattice<L, T>::launch() {
+  const typename Collision::Rates rates = Collision::rates(config_);
   const T rho0 = static_cast<T>(config_.rho0);
   const long rows = static_cast<long>(config_.ny) * config_.nz;
   const int nx = config_.nx;
   const long stride = storage_.stride();
   const auto& plans = plans_;
   // One kernel per (scheme, phase, force) combination; each row range goes to one worker.
-  auto launch = [&]<bool kForce>(std::bool_constant<kForce>) {
+  auto run_kernel = [&]<bool kForce>(std::bool_constant<kForce>) {
     if (!in_place()) {
       const T* src = storage_.buffer(current_);
       T* dst = storage_.buffer(current_ ^ 1);
       pool_->parallel_for(rows, [&](long begin, long end) {
-        stream_collide_rows<L, T, Collision, kForce>(plans, src, dst, stride, nx, begin, end, omega, rho0);
+        stream_collide_rows<L, T, Collision, kForce>(plans, src, dst, stride, nx, begin, end, rates, rho0);
       });
     } else if (pulled_) {
       T* f = storage_.buffer(0);
       pool_->parallel_for(rows, [&](long begin, long end) {
-        stream_collide_in_place_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, omega, rho0);
+        stream_collide_in_place_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
       });
     } else {
       T* f = storage_.buffer(0);
       pool_->parallel_for(rows, [&](long begin, long end) {
-        collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, omega, rho0);
+        collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
       });
     }
   };
   if (has_force_) {
-    launch(std::true_type{});
+    run_kernel(std::true_type{});
   } else {
-    launch(std::false_type{});
+    run_kernel(std::false_type{});
+  }
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::step() {
+  // The collision is chosen here, once per step: each policy gets its own kernels, so BGK runs
+  // exactly the code it ran before the other operators existed.
+  switch (config_.collision) {
+    case CollisionModel::kBgk: launch<BgkCollision<L, T>>(); break;
+    case CollisionModel::kTrt: launch<TrtCollision<L, T>>(); break;
+    case CollisionModel::kRegularized: launch<RegularizedCollision<L, T>>(); break;
   }
   if (in_place()) {
     pulled_ = !pulled_;

@@ -5,8 +5,9 @@
 //
 // State convention: the fluid "at time t" is what the next step pulls (through the same boundary
 // rules as the kernel), so every observer below gathers exactly what the kernel would see, and
-// both streaming schemes give bit-identical results. initialize() sets that gathered state to the
-// equilibrium of the given fields.
+// both streaming schemes give the same results (bit for bit with BGK; TRT and regularized agree to
+// a few ulps, the compiler fusing their multiply-adds differently in vector and scalar code).
+// initialize() sets that gathered state to the equilibrium of the given fields.
 #include <array>
 #include <cstddef>
 #include <functional>
@@ -92,6 +93,9 @@ class FluidLattice {
   Slot slot(int i, int x, int y, int z) const;
   std::array<T, L::Q> gather(int x, int y, int z) const;  // shifted populations at time t
   void check_in_place_slots() const;
+  // One step's fused kernels with the given collision policy (bgk_collision.h and siblings).
+  template <class Collision>
+  void launch();
 
   FluidConfig config_;
   long cells_;

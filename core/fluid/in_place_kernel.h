@@ -19,7 +19,7 @@ namespace lbsolid::fluid {
 
 template <class L, class T, class Collision, bool kForce>
 void collide_local_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
-                        long row_begin, long row_end, T omega, T rho0) {
+                        long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
   constexpr int Q = L::Q;
   constexpr auto opp = lattice::opposite_table<L>();
   for (long first = row_begin; first < row_end;) {
@@ -34,7 +34,7 @@ void collide_local_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
       in[i] = f + i * stride;
       out[i] = f + opp[i] * stride;
     }
-    update_cells<L, T, Collision, kForce, false>(in, no_corr, out, no_corr, force, omega, rho0,
+    update_cells<L, T, Collision, kForce, false>(in, no_corr, out, no_corr, force, rates, rho0,
                                                  first * nx, (last + 1) * nx);
     first = last + 1;
   }
@@ -42,7 +42,7 @@ void collide_local_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
 
 template <class L, class T, class Collision, bool kForce>
 void stream_collide_in_place_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
-                                  long row_begin, long row_end, T omega, T rho0) {
+                                  long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
   constexpr int Q = L::Q;
   constexpr auto opp = lattice::opposite_table<L>();
   for (long row = row_begin; row < row_end; ++row) {
@@ -65,7 +65,7 @@ void stream_collide_in_place_rows(const RowPlans<L, T>& plans, T* f, long stride
         out[k] = slot[opp[k]];
         out_corr[k] = corr[opp[k]];
       }
-      update_cells<L, T, Collision, kForce, true>(in, corr, out, out_corr, force, omega, rho0, begin, end);
+      update_cells<L, T, Collision, kForce, true>(in, corr, out, out_corr, force, rates, rho0, begin, end);
     };
     const long row_start = row * nx;
     sweep(0, row_start, row_start + 1);

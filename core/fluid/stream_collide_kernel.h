@@ -15,7 +15,7 @@ namespace lbsolid::fluid {
 
 template <class L, class T, class Collision, bool kForce>
 void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long stride, int nx,
-                         long row_begin, long row_end, T omega, T rho0) {
+                         long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
   constexpr int Q = L::Q;
   // Updates cells [begin, end) reading population i at cell + sources[i].delta.
   auto sweep = [&](const RowPlan<T, Q>& plan, int part, long begin, long end) {
@@ -30,7 +30,7 @@ void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long
       corr[i] = s.correction;
     }
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
-    update_cells<L, T, Collision, kForce, true>(in, corr, out, no_corr, force, omega, rho0, begin, end);
+    update_cells<L, T, Collision, kForce, true>(in, corr, out, no_corr, force, rates, rho0, begin, end);
   };
   for (long first = row_begin; first < row_end;) {
     const RowPlan<T, Q>& plan = plans.for_row(first);

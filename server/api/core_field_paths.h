@@ -6,7 +6,7 @@
 //   nx, ny, nz                          -> scenario.domain.<same>
 //   nx*ny*nz (grid too large)           -> scenario.domain
 //   omega, rho0, body_force, threads,
-//   streaming                           -> scenario.fluid.<same>
+//   streaming, collision, trt_magic     -> scenario.fluid.<same>
 //   sides.<side> (the side's kind)      -> scenario.domain.<side>.kind
 //   sides.<side>.wall_velocity|traction -> scenario.domain.<side>.<same>
 //   bodies                              -> scenario.bodies
@@ -39,6 +39,8 @@ inline std::optional<std::string> core_field_path(const std::string& field, cons
       {"body_force", "scenario.fluid.body_force"},
       {"threads", "scenario.fluid.threads"},
       {"streaming", "scenario.fluid.streaming"},
+      {"collision", "scenario.fluid.collision"},
+      {"trt_magic", "scenario.fluid.trt_magic"},
       {"bodies", "scenario.bodies"},
       {"contact.restitution", "scenario.contact.restitution"},
   };

@@ -50,6 +50,16 @@ inline std::optional<fluid::StreamingScheme> streaming_of(lbsolid::v1::Streaming
   }
 }
 
+inline std::optional<fluid::CollisionModel> collision_of(lbsolid::v1::Collision value) {
+  switch (value) {
+    case lbsolid::v1::COLLISION_UNSPECIFIED:
+    case lbsolid::v1::COLLISION_BGK: return fluid::CollisionModel::kBgk;
+    case lbsolid::v1::COLLISION_TRT: return fluid::CollisionModel::kTrt;
+    case lbsolid::v1::COLLISION_REGULARIZED: return fluid::CollisionModel::kRegularized;
+    default: return std::nullopt;
+  }
+}
+
 inline std::optional<coupling::ExchangeRule> exchange_of(lbsolid::v1::ExchangeRule value) {
   switch (value) {
     case lbsolid::v1::EXCHANGE_RULE_UNSPECIFIED:

@@ -139,6 +139,9 @@ void translate_fluid(const v1::Fluid& in, int dimension, scene::Scene& out, Prob
                         "must be at most " + std::to_string(kMaxThreads) + ", got " + std::to_string(f.threads)});
   f.streaming = enum_or_report(streaming_of(in.streaming()), in.streaming(), v1::Streaming_descriptor(),
                                "scenario.fluid.streaming", problems);
+  f.collision = enum_or_report(collision_of(in.collision()), in.collision(), v1::Collision_descriptor(),
+                               "scenario.fluid.collision", problems);
+  f.trt_magic = in.has_trt_magic() ? in.trt_magic() : 3.0 / 16.0;
 }
 
 // ---- Bodies.

@@ -258,8 +258,8 @@ grpc::Status SimulationService::GetServerInfo(grpc::ServerContext*, const v1::Ge
   response->set_api_version("lbsolid.v1");
   for (const char* capability :
        {"lattice:D2Q9", "lattice:D2Q7", "lattice:D3Q19", "precision:double", "precision:float", "collision:bgk",
-        "exchange:common-velocity", "exchange:pairwise", "stream:profiles", "stream:particles", "field:density",
-        "field:velocity", "checkpoint:hdf5"})
+        "collision:trt", "collision:regularized", "exchange:common-velocity", "exchange:pairwise", "stream:profiles",
+        "stream:particles", "field:density", "field:velocity", "checkpoint:hdf5"})
     response->add_capabilities(capability);
   response->set_workers(limits.workers);
   response->set_max_sessions(limits.max_sessions);

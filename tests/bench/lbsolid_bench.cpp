@@ -3,6 +3,8 @@
 // cache, with one thread and with all cores, beside the memory bandwidth measured in the same run
 // (a STREAM-style copy for two-buffer streaming, an in-place update for in-place streaming), the
 // bytes moved per cell update, the roofline that implies, and the fraction of it reached.
+// Then the collision operators (BGK, TRT, regularized) side by side: D2Q9 and D3Q19, double, in
+// place, one thread, on the same grid.
 // Then the scene benchmarks (bench/scene_bench.h): the builder's overhead on a fluid-only scene,
 // a solid-only scene's memory, and coupled steps at 0.1 and 1 particle per cell.
 //   lbsolid-bench [--json] [--quick] [--threads N] [--scenes-only]
@@ -26,7 +28,7 @@ namespace lbsolid::bench {
 namespace {
 
 struct Row {
-  std::string lattice, precision, streaming;
+  std::string lattice, precision, streaming, collision = "bgk";
   int threads;
   long cells;
   double mlups, bytes_per_update, bandwidth, roofline;
@@ -34,7 +36,8 @@ struct Row {
 
 // Grid with at least `min_cells` cells: square in 2D, cubic in 3D.
 template <class L>
-fluid::FluidConfig big_grid(long min_cells, int threads, fluid::StreamingScheme streaming) {
+fluid::FluidConfig big_grid(long min_cells, int threads, fluid::StreamingScheme streaming,
+                            fluid::CollisionModel collision) {
   fluid::FluidConfig c;
   if (L::D == 3) {
     const int n = static_cast<int>(std::ceil(std::cbrt(static_cast<double>(min_cells))));
@@ -47,18 +50,20 @@ fluid::FluidConfig big_grid(long min_cells, int threads, fluid::StreamingScheme 
   c.omega = 1.0;
   c.threads = threads;
   c.streaming = streaming;
+  c.collision = collision;
   return c;
 }
 
 // Bytes per cell update are counted as STREAM counts a copy: Q populations read and Q written,
 // whichever the scheme (in place, the written lines are the ones just read).
 template <class L, class T>
-Row measure(std::size_t working_set, int threads, fluid::StreamingScheme streaming, double min_seconds) {
+Row measure(std::size_t working_set, int threads, fluid::StreamingScheme streaming, double min_seconds,
+            fluid::CollisionModel collision = fluid::CollisionModel::kBgk) {
   const double bytes_per_update = 2.0 * L::Q * sizeof(T);
   // Each scheme's own storage (one buffer or two) fills the working set.
   const int buffers = streaming == fluid::StreamingScheme::kInPlace ? 1 : 2;
   const long cells = static_cast<long>(working_set / (buffers * L::Q * sizeof(T)));
-  fluid::FluidLattice<L, T> fluid(big_grid<L>(cells, threads, streaming));
+  fluid::FluidLattice<L, T> fluid(big_grid<L>(cells, threads, streaming, collision));
   fluid.initialize([](int, int, int) { return 1.0; },
                    [](int x, int y, int) { return fluid::Vec3{0.01 * std::sin(0.1 * y), 0.01 * std::cos(0.1 * x), 0}; });
   fluid.run(2);  // warm up: page in both buffers
@@ -78,7 +83,8 @@ Row measure(std::size_t working_set, int threads, fluid::StreamingScheme streami
     mlups = std::max(mlups, static_cast<double>(fluid.cells()) * steps / seconds / 1e6);
   }
   return {L::name, sizeof(T) == 8 ? "double" : "float",
-          streaming == fluid::StreamingScheme::kInPlace ? "in-place" : "two-buffer", threads, fluid.cells(), mlups,
+          streaming == fluid::StreamingScheme::kInPlace ? "in-place" : "two-buffer",
+          fluid::collision_model_name(collision), threads, fluid.cells(), mlups,
           bytes_per_update, 0, 0};  // bandwidth and roofline are filled in by the caller
 }
 
@@ -139,6 +145,16 @@ int main(int argc, char** argv) {
     }
   }
 
+  // The operators against each other, where the arithmetic differs most (D3Q19) and least (D2Q9).
+  std::vector<Row> collision_rows;
+  if (!scenes_only) {
+    constexpr auto kInPlace = fluid::StreamingScheme::kInPlace;
+    for (auto model : {fluid::CollisionModel::kBgk, fluid::CollisionModel::kTrt, fluid::CollisionModel::kRegularized}) {
+      collision_rows.push_back(measure<lattice::D2Q9, double>(working_set, 1, kInPlace, min_seconds, model));
+      collision_rows.push_back(measure<lattice::D3Q19, double>(working_set, 1, kInPlace, min_seconds, model));
+    }
+  }
+
   const std::vector<SceneRow> scene_rows = run_scene_benchmarks(quick);
   if (json) {
     std::printf("{\n  \"last_level_cache_bytes\": %zu,\n  \"working_set_bytes\": %zu,\n  \"results\": [\n", llc,
@@ -150,6 +166,14 @@ int main(int argc, char** argv) {
                   "\"roofline_mlups\": %.2f, \"fraction_of_roofline\": %.3f}%s\n",
                   r.lattice.c_str(), r.precision.c_str(), r.streaming.c_str(), r.threads, r.cells, r.mlups, r.bytes_per_update,
                   r.bandwidth / 1e9, r.roofline, r.mlups / r.roofline, k + 1 < rows.size() ? "," : "");
+    }
+    std::printf("  ],\n  \"collision_results\": [\n");
+    for (std::size_t k = 0; k < collision_rows.size(); ++k) {
+      const Row& r = collision_rows[k];
+      std::printf("    {\"lattice\": \"%s\", \"precision\": \"%s\", \"streaming\": \"%s\", \"collision\": \"%s\", "
+                  "\"threads\": %d, \"cells\": %ld, \"mlups\": %.2f}%s\n",
+                  r.lattice.c_str(), r.precision.c_str(), r.streaming.c_str(), r.collision.c_str(), r.threads, r.cells,
+                  r.mlups, k + 1 < collision_rows.size() ? "," : "");
     }
     std::printf("  ],\n");
     print_scene_rows_json(scene_rows);
@@ -176,6 +200,15 @@ int main(int argc, char** argv) {
                   "disturbed by other work on the machine; run again on a quiet machine.\n");
       break;
     }
+  }
+  std::printf("\ncollision operators (in place, one thread; MLUPS relative to BGK on the same lattice)\n");
+  std::printf("%-6s %-7s %-12s %10s %9s %8s\n", "lattice", "prec", "collision", "cells", "MLUPS", "vs BGK");
+  for (const Row& r : collision_rows) {
+    double bgk = 0;
+    for (const Row& b : collision_rows)
+      if (b.lattice == r.lattice && b.collision == "bgk") bgk = b.mlups;
+    std::printf("%-6s %-7s %-12s %10ld %9.1f %7.0f%%\n", r.lattice.c_str(), r.precision.c_str(), r.collision.c_str(),
+                r.cells, r.mlups, bgk > 0 ? 100.0 * r.mlups / bgk : 0.0);
   }
   print_scene_rows(scene_rows);
   return 0;

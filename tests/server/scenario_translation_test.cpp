@@ -68,6 +68,8 @@ TEST(ScenarioTranslation, AbsentFieldsTakeTheDocumentedDefaults) {
   EXPECT_EQ(t.scene.fluid.rho0, 1.0);
   EXPECT_EQ(t.scene.fluid.threads, 1);
   EXPECT_EQ(t.scene.fluid.streaming, fluid::StreamingScheme::kInPlace);
+  EXPECT_EQ(t.scene.fluid.collision, fluid::CollisionModel::kBgk);
+  EXPECT_EQ(t.scene.fluid.trt_magic, 3.0 / 16.0);
   EXPECT_EQ(t.scene.fluid.body_force, expected.fluid.body_force);
   for (int side = 0; side < 6; ++side) {
     EXPECT_EQ(t.scene.fluid.sides[side].kind, fluid::WallKind::kPeriodic);
@@ -158,6 +160,18 @@ TEST(ScenarioTranslation, EveryEnumValueIsMapped) {
     s.mutable_fluid()->set_streaming(in);
     EXPECT_EQ(translate_scenario(s).scene.fluid.streaming, out) << v1::Streaming_Name(in);
   }
+  const std::pair<v1::Collision, fluid::CollisionModel> collisions[] = {
+      {v1::COLLISION_UNSPECIFIED, fluid::CollisionModel::kBgk},
+      {v1::COLLISION_BGK, fluid::CollisionModel::kBgk},
+      {v1::COLLISION_TRT, fluid::CollisionModel::kTrt},
+      {v1::COLLISION_REGULARIZED, fluid::CollisionModel::kRegularized}};
+  for (const auto& [in, out] : collisions) {
+    v1::Scenario s = parse("domain { nx: 4 ny: 4 }");
+    s.mutable_fluid()->set_collision(in);
+    const TranslatedScenario t = translate_scenario(s);
+    EXPECT_TRUE(t.ok()) << v1::Collision_Name(in) << listed(t.errors);
+    EXPECT_EQ(t.scene.fluid.collision, out) << v1::Collision_Name(in);
+  }
   const std::pair<v1::ExchangeRule, coupling::ExchangeRule> rules[] = {
       {v1::EXCHANGE_RULE_UNSPECIFIED, coupling::ExchangeRule::kCommonVelocity},
       {v1::EXCHANGE_RULE_COMMON_VELOCITY, coupling::ExchangeRule::kCommonVelocity},
@@ -236,7 +250,7 @@ TEST(ScenarioTranslation, UnknownEnumNumbersAreReported) {
   const auto errors = errors_of(R"(
     precision: 9 exchange: 5
     domain { nx: 4 ny: 4 y_low { kind: 8 } y_high { kind: WALL_KIND_BOUNCE_BACK } }
-    fluid { streaming: 3 }
+    fluid { streaming: 3 collision: 4 }
     bodies { shape: 11 }
     bodies { shape: BODY_SHAPE_CHAIN length: 2 axis: 6 centre { x: 2 y: 2 } }
   )");
@@ -244,10 +258,11 @@ TEST(ScenarioTranslation, UnknownEnumNumbersAreReported) {
   EXPECT_ERROR(errors, "scenario.exchange: unknown value 5");
   EXPECT_ERROR(errors, "scenario.domain.y_low.kind: unknown value 8; use WALL_KIND_PERIODIC, WALL_KIND_BOUNCE_BACK");
   EXPECT_ERROR(errors, "scenario.fluid.streaming: unknown value 3");
+  EXPECT_ERROR(errors, "scenario.fluid.collision: unknown value 4; use COLLISION_BGK, COLLISION_TRT or COLLISION_REGULARIZED");
   EXPECT_ERROR(errors, "scenario.bodies[0].shape: unknown value 11");
   EXPECT_ERROR(errors, "scenario.bodies[1].axis: unknown value 6");
   // The core's own reports of the same fields are not repeated.
-  EXPECT_EQ(errors.size(), 6u) << listed(errors);
+  EXPECT_EQ(errors.size(), 7u) << listed(errors);
 }
 
 // ---- Errors, with their full field paths.
@@ -259,6 +274,31 @@ TEST(ScenarioTranslation, OmegaOutsideItsRange) {
   EXPECT_EQ(errors[0].rfind("scenario.fluid.omega: must lie in (0, 2) for a stable, positive viscosity, got 2.5", 0),
             0u)
       << errors[0];
+}
+
+TEST(ScenarioTranslation, TrtMagicIsMappedAndMustBePositive) {
+  const TranslatedScenario t =
+      translate_scenario(parse("domain { nx: 4 ny: 4 } fluid { collision: COLLISION_TRT trt_magic: 0.25 }"));
+  ASSERT_TRUE(t.ok()) << listed(t.errors);
+  EXPECT_EQ(t.scene.fluid.collision, fluid::CollisionModel::kTrt);
+  EXPECT_EQ(t.scene.fluid.trt_magic, 0.25);
+  for (const char* bad : {"0", "-0.1", "nan", "inf"}) {
+    const auto errors =
+        errors_of(std::string("domain { nx: 4 ny: 4 } fluid { collision: COLLISION_TRT trt_magic: ") + bad + " }");
+    ASSERT_EQ(errors.size(), 1u) << bad << listed(errors);
+    EXPECT_EQ(errors[0].rfind("scenario.fluid.trt_magic: must be positive, got ", 0), 0u) << errors[0];
+  }
+}
+
+TEST(ScenarioTranslation, EachCollisionOperatorBuildsAndRuns) {
+  for (const char* collision : {"COLLISION_BGK", "COLLISION_TRT", "COLLISION_REGULARIZED"}) {
+    const TranslatedScenario t = translate_scenario(parse(channel_with(
+        std::string("fluid { omega: 1.3 body_force { x: 1e-5 } collision: ") + collision + " }")));
+    ASSERT_TRUE(t.ok()) << collision << listed(t.errors);
+    auto simulation = scene::build_simulation(t.scene);
+    simulation->run(3);
+    EXPECT_EQ(simulation->step_count(), 3) << collision;
+  }
 }
 
 TEST(ScenarioTranslation, GridProblemsNameTheDomain) {
