@@ -23,30 +23,45 @@ std::string node_name(long cell, const std::array<int, 3>& shape) {
 std::string check_fluid(const scene::Simulation& simulation, const StabilityLimits& limits) {
   const auto fields = simulation.fluid_fields();
   const double cs = std::sqrt(sound_speed_squared(simulation.scene().lattice));
-  long worst = -1;
+  const double rho0 = simulation.scene().fluid.rho0;
+  const double low = limits.min_density * rho0, high = limits.max_density * rho0;
+  // One pass: a non-finite value ends it at once; the extremes of density and Mach are kept, so
+  // the message names the worst node rather than the first one past a limit.
+  long lowest = -1, highest = -1, fastest = -1;
   double worst_mach = 0;
   for (std::size_t c = 0; c < fields.density.size(); ++c) {
     const double rho = fields.density[c];
     const fluid::Vec3 u{fields.velocity[3 * c], fields.velocity[3 * c + 1], fields.velocity[3 * c + 2]};
-    std::ostringstream out;
     if (!std::isfinite(rho) || !finite(u)) {
+      std::ostringstream out;
       out << "non-finite " << (std::isfinite(rho) ? "velocity" : "density") << " at "
           << node_name(static_cast<long>(c), fields.shape);
       return out.str();
     }
-    if (rho <= 0) {
-      out << "density " << rho << " (must stay positive) at " << node_name(static_cast<long>(c), fields.shape);
-      return out.str();
-    }
+    if (lowest < 0 || rho < fields.density[lowest]) lowest = static_cast<long>(c);
+    if (highest < 0 || rho > fields.density[highest]) highest = static_cast<long>(c);
     const double mach = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) / cs;
     if (mach > worst_mach) {
       worst_mach = mach;
-      worst = static_cast<long>(c);
+      fastest = static_cast<long>(c);
     }
   }
+  if (lowest < 0) return {};
+  std::ostringstream out;
+  const double rho_min = fields.density[lowest], rho_max = fields.density[highest];
+  if (rho_min <= 0) {
+    out << "density " << rho_min << " (must stay positive) at " << node_name(lowest, fields.shape);
+    return out.str();
+  }
+  const double below = rho_min < low ? low / rho_min : 1.0, above = rho_max > high ? rho_max / high : 1.0;
+  if (below > 1.0 || above > 1.0) {
+    const long worst = below >= above ? lowest : highest;
+    out << "density " << fields.density[worst] << " outside [" << low << ", " << high << "] at "
+        << node_name(worst, fields.shape);
+    return out.str();
+  }
   if (worst_mach > limits.max_mach) {
-    std::ostringstream out;
-    out << "Mach number " << worst_mach << " (limit " << limits.max_mach << ") at " << node_name(worst, fields.shape);
+    out << "Mach number " << worst_mach << " (limit " << limits.max_mach << ") at " << node_name(fastest, fields.shape);
     return out.str();
   }
   return {};

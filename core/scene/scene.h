@@ -6,6 +6,7 @@
 
 #include "coupling/momentum_exchange.h"
 #include "fluid/fluid_config.h"
+#include "observe/stability_limits.h"
 #include "solid/body_shape.h"
 
 namespace lbsolid::scene {
@@ -21,6 +22,16 @@ struct ContactSpec {
   double restitution = 1.0;  // e in [0, 1]; 1 is exactly elastic
 };
 
+// The stability monitor a Simulation runs on itself (observe/stability.h): every `interval` steps
+// it looks for non-finite values, a density outside the band and a Mach number above the limit,
+// and step() throws InstabilityError (scene/instability_error.h) naming the step, the quantity and
+// the place. 0 turns it off (the default: the daemon runs its own check between steps). A check
+// reads every node (about as much as one fluid step), so an interval of 10 or more keeps it cheap.
+struct MonitorSpec {
+  int interval = 0;
+  observe::StabilityLimits limits;
+};
+
 struct Scene {
   LatticeKind lattice = LatticeKind::kD2Q9;
   Precision precision = Precision::kDouble;  // of the fluid; the solid is always double
@@ -31,6 +42,7 @@ struct Scene {
   std::vector<solid::BodySpec> bodies;
   ContactSpec contact;
   coupling::ExchangeRule exchange = coupling::ExchangeRule::kCommonVelocity;
+  MonitorSpec monitor;
 };
 
 // The name body b goes by in output: its own, or "body<b>".
@@ -38,6 +50,18 @@ std::string body_name(const Scene& scene, std::size_t b);
 
 // Every problem with the scene, each "<field>: <reason>". Empty when it can run.
 std::vector<std::string> validate_scene(const Scene& scene);
+
+// Parameters that can run but sit near the edge of the stable region, each "<field>: <reason>":
+//   "omega: 1.97 is above 1.95; the fluid is close to its stability limit"
+//   "bodies[0].velocity: initial Mach number 0.12 is above 0.1"
+//   "sides.y_high.wall_velocity: Mach number 0.12 is above 0.1"
+// Empty for a comfortable scene. Meant for a scene validate_scene() accepts.
+std::vector<std::string> scene_warnings(const Scene& scene);
+
+// Body b's solid-to-fluid mass ratio per node: the body's mass (sum of M_l = K_l/2) over the number
+// of distinct fluid nodes its particles are nearest to at the start, over fluid.rho0. A bulk sheet at
+// spacing 1 gives 2 / rho0; packing s particles per node multiplies it by s.
+double body_mass_ratio(const Scene& scene, std::size_t b);
 
 // Where the walls of each side stand, in lattice units (half-way between the last node and the
 // next: -1/2 and n - 1/2 along square axes; D2Q7 rows are sqrt(3)/2 apart).

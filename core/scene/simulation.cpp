@@ -8,6 +8,7 @@
 #include "lattice/d2q7.h"
 #include "lattice/d2q9.h"
 #include "lattice/d3q19.h"
+#include "observe/stability.h"
 #include "observe/velocity_profile.h"
 #include "solid/wall_contact.h"
 
@@ -72,6 +73,12 @@ class SimulationImpl final : public Simulation {
       solid_->step(force_);
     }
     ++steps_;
+    // After the step is complete, so a throw leaves a consistent state at step N to read or save.
+    const int every = scene_.monitor.interval;
+    if (every > 0 && steps_ % every == 0) {
+      const std::string problem = observe::find_instability(*this, scene_.monitor.limits);
+      if (!problem.empty()) throw InstabilityError(steps_, problem);
+    }
   }
 
   long step_count() const override { return steps_; }

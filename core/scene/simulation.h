@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "fluid/fluid_lattice.h"
+#include "scene/instability_error.h"
 #include "scene/scene.h"
 #include "solid/solid_system.h"
 
@@ -59,6 +60,8 @@ class Simulation {
  public:
   virtual ~Simulation() = default;
 
+  // One step of the pipeline; with scene().monitor.interval > 0, every that many steps the monitor
+  // checks the state and throws InstabilityError ("step N: <problem>") if it left the safe region.
   virtual void step() = 0;
   void run(long steps) {
     for (long s = 0; s < steps; ++s) step();

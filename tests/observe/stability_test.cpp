@@ -53,5 +53,35 @@ TEST(StabilityMonitor, NamesANonFiniteParticle) {
   EXPECT_NE(find_instability(*sim, {}).find("of body sheet"), std::string::npos);
 }
 
+// The density band is relative to rho0, shown as densities, and names the node furthest out. A
+// moving wall pumping a closed box compresses one corner; a band tight enough catches it.
+TEST(StabilityMonitor, NamesADensityOutsideTheBand) {
+  scene::Scene s = driven_box(0);
+  s.fluid.rho0 = 2.0;
+  for (int side = 0; side < 4; ++side) s.fluid.sides[side].kind = fluid::WallKind::kBounceBack;
+  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kMovingWall;
+  s.fluid.sides[fluid::kYHigh].wall_velocity = {0.1, 0, 0};
+  auto sim = scene::build_simulation(s);
+  sim->run(50);
+  EXPECT_EQ(find_instability(*sim, {}), "");  // default band [1, 4] at rho0 = 2
+  StabilityLimits tight;
+  tight.min_density = 0.999;
+  tight.max_density = 1.001;
+  const std::string problem = find_instability(*sim, tight);
+  EXPECT_EQ(problem.rfind("density ", 0), 0u) << problem;
+  EXPECT_NE(problem.find(" outside [1.998, 2.002] at node ("), std::string::npos) << problem;
+}
+
+TEST(StabilityMonitor, DefaultsAndDisabledBand) {
+  const StabilityLimits limits;
+  EXPECT_EQ(limits.max_mach, 0.5);
+  EXPECT_EQ(limits.min_density, 0.5);
+  EXPECT_EQ(limits.max_density, 2.0);
+  // The daemon's form of construction still sets the Mach limit first.
+  const StabilityLimits mach_only{0.3};
+  EXPECT_EQ(mach_only.max_mach, 0.3);
+  EXPECT_EQ(mach_only.min_density, 0.5);
+}
+
 }  // namespace
 }  // namespace lbsolid::observe

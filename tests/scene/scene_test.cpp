@@ -167,5 +167,91 @@ TEST(SimulationObservers, ReadTheStateTheyDescribe) {
   for (double u : sim->velocity_profile()) EXPECT_EQ(u, 0.0);
 }
 
+TEST(SceneValidation, MonitorLimitsAndSpeedsThatCannotBeStable) {
+  Scene s = channel();
+  s.monitor.interval = -1;
+  s.monitor.limits.max_mach = 0;
+  s.monitor.limits.min_density = 1.2;
+  s.monitor.limits.max_density = 0.9;
+  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kMovingWall;
+  s.fluid.sides[fluid::kYHigh].wall_velocity = {0.6, 0, 0};  // Mach 1.2 on D2Q7 (c_s = 1/2)
+  s.bodies.push_back(disk_at(10, 4));
+  s.bodies.back().velocity = {0, 0.5, 0};  // Mach 1
+  const auto errors = validate_scene(s);
+  for (const auto& e : errors) std::printf("  %s\n", e.c_str());
+  EXPECT_TRUE(has_error(errors, "monitor.interval: must be 0 (off) or a number of steps, got -1"));
+  EXPECT_TRUE(has_error(errors, "monitor.max_mach: must be positive, got 0"));
+  EXPECT_TRUE(has_error(errors, "monitor.min_density: must lie in [0, 1) (a fraction of rho0), got 1.2"));
+  EXPECT_TRUE(has_error(errors, "monitor.max_density: must be above 1"));
+  EXPECT_TRUE(has_error(errors, "sides.y_high.wall_velocity: Mach number 1.2 must stay below 1"));
+  EXPECT_TRUE(has_error(errors, "bodies[0].velocity: initial Mach number 1 must stay below 1"));
+  EXPECT_EQ(errors.size(), 6u);
+  s.monitor.limits.max_mach = NAN;
+  EXPECT_TRUE(has_error(validate_scene(s), "monitor.max_mach: must be positive, got nan"));
+}
+
+TEST(SceneWarnings, NameTheQuantityNearTheEdge) {
+  Scene s = channel();
+  s.bodies.push_back(disk_at(10, 4));
+  EXPECT_TRUE(scene_warnings(s).empty());
+  s.fluid.omega = 1.97;
+  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kMovingWall;
+  s.fluid.sides[fluid::kYHigh].wall_velocity = {0.06, 0, 0};  // Mach 0.12 on D2Q7
+  s.bodies[0].velocity = {0.06, 0, 0};
+  ASSERT_TRUE(validate_scene(s).empty());
+  const auto warnings = scene_warnings(s);
+  ASSERT_EQ(warnings.size(), 3u);
+  EXPECT_EQ(warnings[0], "omega: 1.97 is above 1.95; the fluid is close to its stability limit");
+  EXPECT_EQ(warnings[1], "sides.y_high.wall_velocity: Mach number 0.12 is above 0.1");
+  EXPECT_EQ(warnings[2], "bodies[0].velocity: initial Mach number 0.12 is above 0.1");
+  s.with_fluid = false;  // without a fluid there is no speed of sound to compare with
+  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kBounceBack;
+  s.fluid.sides[fluid::kYHigh].wall_velocity = {0, 0, 0};
+  EXPECT_TRUE(scene_warnings(s).empty());
+}
+
+TEST(SceneWarnings, MassRatioPerNode) {
+  Scene s;
+  s.fluid.nx = s.fluid.ny = 16;
+  solid::BodySpec sheet;
+  sheet.size = {4, 4, 1};
+  sheet.centre = {8, 8, 0};
+  s.bodies.push_back(sheet);
+  EXPECT_DOUBLE_EQ(body_mass_ratio(s, 0), 24.0 / 16.0);  // sum K/2 = 24 over 16 nodes
+  s.fluid.rho0 = 0.015;
+  EXPECT_DOUBLE_EQ(body_mass_ratio(s, 0), 100.0);
+  s.bodies[0].spacing = 0.5;  // four particles per node: x, y = 7.5, 8, 8.5, 9 -> nodes 8, 9
+  s.bodies[0].centre = {8.25, 8.25, 0};
+  s.fluid.rho0 = 1;
+  EXPECT_DOUBLE_EQ(body_mass_ratio(s, 0), 24.0 / 4.0);
+}
+
+TEST(SimulationMonitor, StopsAtTheCheckWithStepAndMessageAndLeavesTheStateReadable) {
+  // A periodic box under a uniform force: u = F t, Mach 0.5 after 289 steps at F = 1e-3.
+  Scene s;
+  s.fluid.nx = s.fluid.ny = 8;
+  s.fluid.body_force = {1e-3, 0, 0};
+  s.monitor.interval = 25;
+  auto sim = build_simulation(s);
+  try {
+    sim->run(1000);
+    FAIL() << "the monitor did not stop the run";
+  } catch (const InstabilityError& e) {
+    EXPECT_EQ(e.step(), 300);
+    EXPECT_EQ(sim->step_count(), 300);
+    EXPECT_EQ(e.message().rfind("Mach number 0.519", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()), "step 300: " + e.message());
+    const std::runtime_error& base = e;  // what callers that know only std::runtime_error see
+    EXPECT_EQ(std::string(base.what()).rfind("step 300: Mach number", 0), 0u);
+  }
+  EXPECT_NEAR(sim->fluid_moments(3, 3).u[0], 300e-3, 1e-9);
+  EXPECT_EQ(sim->save_state().step, 300);
+  // Off (interval 0), the same run goes on.
+  s.monitor.interval = 0;
+  auto unwatched = build_simulation(s);
+  unwatched->run(400);
+  EXPECT_EQ(unwatched->step_count(), 400);
+}
+
 }  // namespace
 }  // namespace lbsolid::scene
