@@ -43,6 +43,10 @@ inline std::optional<std::string> core_field_path(const std::string& field, cons
       {"trt_magic", "scenario.fluid.trt_magic"},
       {"bodies", "scenario.bodies"},
       {"contact.restitution", "scenario.contact.restitution"},
+      {"monitor.interval", "scenario.stability.check_interval"},
+      {"monitor.max_mach", "scenario.stability.max_mach"},
+      {"monitor.min_density", "scenario.stability.min_density"},
+      {"monitor.max_density", "scenario.stability.max_density"},
   };
   if (const auto fixed = kFixed.find(field); fixed != kFixed.end()) return std::string(fixed->second);
   if (field.starts_with("sides.")) {

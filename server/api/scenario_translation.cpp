@@ -295,10 +295,14 @@ void translate_contact_and_exchange(const v1::Scenario& in, scene::Scene& out, P
                                 "scenario.exchange", problems);
 }
 
-StabilityCheck translate_stability(const v1::Stability& in, Problems& problems) {
-  StabilityCheck check;
+// The daemon always watches its runs: the API's interval is at least 1 (the core also allows 0, off).
+// The density band is checked by the core (monitor.*), whose messages map to scenario.stability.*.
+scene::MonitorSpec translate_stability(const v1::Stability& in, Problems& problems) {
+  scene::MonitorSpec check;
   check.interval = in.has_check_interval() ? in.check_interval() : 100;
   check.limits.max_mach = in.has_max_mach() ? in.max_mach() : 0.5;
+  if (in.has_min_density()) check.limits.min_density = in.min_density();
+  if (in.has_max_density()) check.limits.max_density = in.max_density();
   if (check.interval < 1)
     problems.push_back(
         {"scenario.stability.check_interval", "must be at least 1, got " + std::to_string(check.interval)});
@@ -431,7 +435,7 @@ TranslatedScenario translate_scenario(const lbsolid::v1::Scenario& in) {
     core_can_check.push_back(body.core_can_check);
   }
   translate_contact_and_exchange(in, out.scene, problems);
-  out.stability = translate_stability(in.stability(), problems);
+  out.scene.monitor = translate_stability(in.stability(), problems);
   // With no lattice the core checks nothing but the lattice, which is already reported.
   if (lattice) add_core_problems(out.scene, core_can_check, problems);
   for (const Problem& p : problems) {

@@ -9,19 +9,12 @@
 #include <vector>
 
 #include "lbsolid/v1/scenario.pb.h"
-#include "observe/stability.h"
 #include "scene/scene.h"
 
 namespace lbsolid::server {
 
-struct StabilityCheck {
-  int interval = 100;                  // steps between checks
-  observe::StabilityLimits limits;     // max_mach default 0.5
-};
-
 struct TranslatedScenario {
   scene::Scene scene;
-  StabilityCheck stability;
   std::vector<std::string> errors;  // empty when the scene can be built
   bool ok() const { return errors.empty(); }
 };

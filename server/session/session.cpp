@@ -9,7 +9,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
-#include "observe/stability.h"
+#include "scene/instability_error.h"
 
 namespace lbsolid::server {
 
@@ -47,7 +47,6 @@ Session::Session(SessionSetup setup)
     : id_(std::move(setup.id)),
       request_id_(std::move(setup.request_id)),
       scenario_(std::move(setup.scenario)),
-      stability_(setup.translated.stability),
       created_unix_ms_(setup.created_unix_ms),
       sim_(scene::build_simulation(setup.translated.scene)) {}
 
@@ -200,20 +199,17 @@ bool Session::finish_slice() {
 bool Session::step_once() {
   const long step = sim_->step_count() + 1;
   try {
-    sim_->step();
+    sim_->step();  // the scene's monitor checks the run every stability.check_interval steps
+  } catch (const scene::InstabilityError& e) {
+    step_ = sim_->step_count();
+    fail(e.step(), e.message());
+    return false;
   } catch (const std::exception& e) {
     fail(step, absl::StrCat("the simulation stopped: ", e.what()));
     return false;
   }
   step_ = sim_->step_count();
   if (has_frame_watchers_) publish_frames(step_);
-  if (step_ % stability_.interval == 0) {
-    const std::string problem = observe::find_instability(*sim_, stability_.limits);
-    if (!problem.empty()) {
-      fail(step_, problem);
-      return false;
-    }
-  }
   return true;
 }
 

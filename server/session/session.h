@@ -121,7 +121,6 @@ class Session {
   const std::string id_;
   const std::string request_id_;
   const v1::Scenario scenario_;
-  const StabilityCheck stability_;
   const long long created_unix_ms_;
 
   // Readers (streams subscribing, fields, checkpoints, Step) announce themselves, and the worker

@@ -81,8 +81,10 @@ TEST(ScenarioTranslation, AbsentFieldsTakeTheDocumentedDefaults) {
   EXPECT_TRUE(t.scene.contact.enabled);
   EXPECT_EQ(t.scene.contact.restitution, 1.0);
   EXPECT_EQ(t.scene.exchange, coupling::ExchangeRule::kCommonVelocity);
-  EXPECT_EQ(t.stability.interval, 100);
-  EXPECT_EQ(t.stability.limits.max_mach, 0.5);
+  EXPECT_EQ(t.scene.monitor.interval, 100);
+  EXPECT_EQ(t.scene.monitor.limits.max_mach, 0.5);
+  EXPECT_EQ(t.scene.monitor.limits.min_density, 0.5);
+  EXPECT_EQ(t.scene.monitor.limits.max_density, 2.0);
 }
 
 TEST(ScenarioTranslation, BodyDefaults) {
@@ -118,8 +120,8 @@ TEST(ScenarioTranslation, ExplicitZeroIsNotTheDefault) {
   EXPECT_FALSE(t.scene.with_fluid);
   EXPECT_FALSE(t.scene.contact.enabled);
   EXPECT_EQ(t.scene.contact.restitution, 0.0);
-  EXPECT_EQ(t.stability.interval, 7);
-  EXPECT_EQ(t.stability.limits.max_mach, 0.1);
+  EXPECT_EQ(t.scene.monitor.interval, 7);
+  EXPECT_EQ(t.scene.monitor.limits.max_mach, 0.1);
   EXPECT_EQ(errors_of("domain { nx: 8 ny: 8 } fluid { omega: 0 }").size(), 1u);
 }
 
@@ -369,6 +371,14 @@ TEST(ScenarioTranslation, StabilityLimits) {
             std::vector<std::string>{"scenario.stability.max_mach: must be a positive finite number, got inf"});
   EXPECT_EQ(errors_of("domain { nx: 4 ny: 4 } stability { check_interval: 0 }"),
             std::vector<std::string>{"scenario.stability.check_interval: must be at least 1, got 0"});
+  const auto band = translate_scenario(parse("domain { nx: 4 ny: 4 } stability { min_density: 0.9 max_density: 1.1 }"));
+  EXPECT_TRUE(band.ok()) << listed(band.errors);
+  EXPECT_EQ(band.scene.monitor.limits.min_density, 0.9);
+  EXPECT_EQ(band.scene.monitor.limits.max_density, 1.1);
+  EXPECT_EQ(errors_of("domain { nx: 4 ny: 4 } stability { min_density: 1 max_density: 0.5 }"),
+            (std::vector<std::string>{
+                "scenario.stability.min_density: must lie in [0, 1) (a fraction of rho0), got 1",
+                "scenario.stability.max_density: must be above 1 (a multiple of rho0; infinity for none), got 0.5"}));
 }
 
 TEST(ScenarioTranslation, EveryErrorIsReportedTogether) {
