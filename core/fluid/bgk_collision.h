@@ -63,6 +63,31 @@ struct BgkCollision {
     j[2] = L::D == 3 ? first_moment<2>(f, dirs) : T(0);
   }
 
+  // What every collision operator needs of a node before it relaxes: density, the velocity
+  // (sum f c + F/2) / rho (Guo et al. 2002: the momentum gained is then exactly F), |u|^2, the
+  // equilibrium terms common to every direction, and u.F.
+  struct NodeState {
+    T rho;
+    T u[3];
+    T usq;
+    T isotropic;  // (rho - rho0) - rho |u|^2 / (2 c_s^2)
+    T u_dot_force;
+  };
+
+  template <bool kForce>
+  static LBSOLID_FORCE_INLINE NodeState node_state(const T* f, T rho0, const T (&force)[3]) {
+    NodeState s;
+    T j[3];
+    moments(f, rho0, s.rho, j);
+    const T inv_rho = T(1) / s.rho;
+    for (int a = 0; a < 3; ++a) s.u[a] = kForce ? (j[a] + T(0.5) * force[a]) * inv_rho : j[a] * inv_rho;
+    if constexpr (L::D == 2) s.u[2] = 0;
+    s.usq = s.u[0] * s.u[0] + s.u[1] * s.u[1] + s.u[2] * s.u[2];
+    s.isotropic = (s.rho - rho0) - T(0.5) * s.rho * s.usq * kInvCs2;
+    s.u_dot_force = kForce ? s.u[0] * force[0] + s.u[1] * force[1] + s.u[2] * force[2] : T(0);
+    return s;
+  }
+
   // Shifted equilibrium w_i (rho - rho0) + w_i rho (c.u/cs2 + (c.u)^2/(2 cs4) - u.u/(2 cs2)).
   static inline T equilibrium(int i, T rho, T rho0, const T (&u)[3], T usq) {
     const T cu = T(L::c[i][0]) * u[0] + T(L::c[i][1]) * u[1] + T(L::c[i][2]) * u[2];
@@ -81,16 +106,9 @@ struct BgkCollision {
   template <bool kForce, int... I>
   static LBSOLID_FORCE_INLINE void collide_directions(T* f, T omega, T rho0, const T (&force)[3],
                                         std::integer_sequence<int, I...>) {
-    T rho, j[3];
-    moments(f, rho0, rho, j);
-    const T inv_rho = T(1) / rho;
-    T u[3];
-    for (int a = 0; a < 3; ++a) u[a] = kForce ? (j[a] + T(0.5) * force[a]) * inv_rho : j[a] * inv_rho;
-    if constexpr (L::D == 2) u[2] = 0;
-    const T usq = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-    // Terms of the equilibrium common to every direction.
-    const T isotropic = (rho - rho0) - T(0.5) * rho * usq * kInvCs2;
-    const T u_dot_force = kForce ? u[0] * force[0] + u[1] * force[1] + u[2] * force[2] : T(0);
+    const NodeState s = node_state<kForce>(f, rho0, force);
+    const T rho = s.rho, isotropic = s.isotropic, u_dot_force = s.u_dot_force;
+    const T(&u)[3] = s.u;
     const T source_scale = T(1) - T(0.5) * omega;
     auto relax = [&]<int K>(std::integral_constant<int, K>) __attribute__((always_inline)) {
       const T cu = c_dot<K>(u);

@@ -77,13 +77,9 @@ struct RegularizedCollision {
   template <bool kForce, int... I>
   static LBSOLID_FORCE_INLINE void collide_directions(T* f, T omega, T rho0, const T (&force)[3],
                                                       std::integer_sequence<int, I...> dirs) {
-    T rho, j[3];
-    moments(f, rho0, rho, j);
-    const T inv_rho = T(1) / rho;
-    T u[3];
-    for (int a = 0; a < 3; ++a) u[a] = kForce ? (j[a] + T(0.5) * force[a]) * inv_rho : j[a] * inv_rho;
-    if constexpr (D == 2) u[2] = 0;
-    const T usq = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    const auto s = Base::template node_state<kForce>(f, rho0, force);
+    const T rho = s.rho, u_dot_force = s.u_dot_force;
+    const T(&u)[3] = s.u;
     // Pi of the stored populations: sum f~ c c carries (rho - rho0) c_s^2 I of the equilibrium,
     // the shift w rho0 having been taken out. Scaled by (1 - omega)/(2 c_s^4), off-diagonals doubled.
     const T scale = (T(1) - omega) * T(0.5) * kInvCs2 * kInvCs2;
@@ -102,9 +98,8 @@ struct RegularizedCollision {
       m[2][2] = scale * pzz;
       trace += pzz;
     }
-    const T u_dot_force = kForce ? u[0] * force[0] + u[1] * force[1] + u[2] * force[2] : T(0);
     // Terms common to every direction: equilibrium, -c_s^2 tr(Pi) of Q_i : Pi, and S/2's -u.F.
-    T isotropic = (rho - rho0) - T(0.5) * rho * usq * kInvCs2 - scale * T(L::cs2) * trace;
+    T isotropic = s.isotropic - scale * T(L::cs2) * trace;
     if constexpr (kForce) isotropic -= T(0.5) * u_dot_force * kInvCs2;
     auto rebuild = [&]<int K>(std::integral_constant<int, K>) __attribute__((always_inline)) {
       const T cu = Base::template c_dot<K>(u);

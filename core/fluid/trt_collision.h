@@ -54,15 +54,9 @@ struct TrtCollision {
   template <bool kForce, int... I>
   static LBSOLID_FORCE_INLINE void collide_pairs(T* f, Rates rates, T rho0, const T (&force)[3],
                                                  std::integer_sequence<int, I...>) {
-    T rho, j[3];
-    moments(f, rho0, rho, j);
-    const T inv_rho = T(1) / rho;
-    T u[3];
-    for (int a = 0; a < 3; ++a) u[a] = kForce ? (j[a] + T(0.5) * force[a]) * inv_rho : j[a] * inv_rho;
-    if constexpr (L::D == 2) u[2] = 0;
-    const T usq = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-    const T isotropic = (rho - rho0) - T(0.5) * rho * usq * kInvCs2;
-    const T u_dot_force = kForce ? u[0] * force[0] + u[1] * force[1] + u[2] * force[2] : T(0);
+    const auto s = Base::template node_state<kForce>(f, rho0, force);
+    const T rho = s.rho, isotropic = s.isotropic, u_dot_force = s.u_dot_force;
+    const T(&u)[3] = s.u;
     const T even_source = T(1) - T(0.5) * rates.plus;
     const T odd_source = T(1) - T(0.5) * rates.minus;
     // Each pair is handled once, by its lower index; the rest population is its own pair and has
