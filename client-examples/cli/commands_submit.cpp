@@ -1,5 +1,6 @@
 // submit: parse the scenario locally, create the session (idempotent on the request id), run it,
 // and with --wait / --out follow it to the end (and record it).
+#include <cstdio>
 #include <filesystem>
 
 #include "commands.h"
@@ -62,6 +63,9 @@ int cmd_submit(const CommandLine& line) {
   *create.mutable_scenario() = scenario;
   create.set_request_id(options.request_id.empty() ? random_request_id() : options.request_id);
   const Session created = daemon.call("CreateSession", &Stub::CreateSession, create);
+  // Near-edge parameters (omega above 1.95, ...) run, but the user should know (stderr: --json
+  // keeps stdout to one object, which carries them too).
+  for (const auto& warning : created.warnings()) std::fprintf(stderr, "lbsolid: warning: %s\n", warning.c_str());
 
   if (!options.wait) {
     const Session started = start(daemon, created, options.steps);

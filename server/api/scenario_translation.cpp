@@ -444,6 +444,15 @@ TranslatedScenario translate_scenario(const lbsolid::v1::Scenario& in) {
     if (std::find(out.errors.begin(), out.errors.end(), text) == out.errors.end())
       out.errors.push_back(std::move(text));
   }
+  // Parameters near the edge of stability, on their proto paths; only for a scene that can run.
+  if (out.errors.empty()) {
+    std::vector<int> identity(out.scene.bodies.size());
+    for (std::size_t b = 0; b < identity.size(); ++b) identity[b] = static_cast<int>(b);
+    for (const std::string& warning : scene::scene_warnings(out.scene)) {
+      const Problem p = from_core(warning, identity);
+      out.warnings.push_back(p.path + ": " + p.reason);
+    }
+  }
   return out;
 }
 

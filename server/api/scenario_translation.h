@@ -15,7 +15,8 @@ namespace lbsolid::server {
 
 struct TranslatedScenario {
   scene::Scene scene;
-  std::vector<std::string> errors;  // empty when the scene can be built
+  std::vector<std::string> errors;    // empty when the scene can be built
+  std::vector<std::string> warnings;  // parameters near the edge of stability, "<path>: <reason>"
   bool ok() const { return errors.empty(); }
 };
 

@@ -48,6 +48,7 @@ Session::Session(SessionSetup setup)
       request_id_(std::move(setup.request_id)),
       scenario_(std::move(setup.scenario)),
       created_unix_ms_(setup.created_unix_ms),
+      warnings_(setup.translated.warnings),
       sim_(scene::build_simulation(setup.translated.scene)) {}
 
 Session::~Session() = default;
@@ -74,6 +75,7 @@ v1::Session Session::describe() const {
   s.set_fluid_bytes(static_cast<long long>(sim_->fluid_bytes()));
   s.set_solid_bytes(static_cast<long long>(sim_->solid_bytes()));
   s.set_created_unix_ms(created_unix_ms_);
+  for (const auto& warning : warnings_) s.add_warnings(warning);
   std::lock_guard lock(mutex_);
   s.set_state(state_);
   s.set_step(step_);

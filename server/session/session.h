@@ -122,6 +122,7 @@ class Session {
   const std::string request_id_;
   const v1::Scenario scenario_;
   const long long created_unix_ms_;
+  const std::vector<std::string> warnings_;
 
   // Readers (streams subscribing, fields, checkpoints, Step) announce themselves, and the worker
   // ends its slice for them: std::mutex is not fair, and a worker that re-locks at once after each

@@ -117,10 +117,11 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::create(const v1::Scenar
                                                                 const std::string& request_id) {
   std::lock_guard lock(mutex_);  // one creation at a time: ids and request ids stay consistent
   auto session = add_locked(scenario, request_id, [](Session&) { return absl::OkStatus(); });
-  if (session.ok())
-    spdlog::info("session {}: created \"{}\" ({} fluid nodes, {} particles, stages {})", (*session)->id(),
-                 scenario.name(), (*session)->cells(), (*session)->describe().particles(),
-                 absl::StrJoin((*session)->describe().stages(), ","));
+  if (!session.ok()) return session;
+  const auto described = (*session)->describe();
+  spdlog::info("session {}: created \"{}\" ({} fluid nodes, {} particles, stages {})", (*session)->id(),
+               scenario.name(), (*session)->cells(), described.particles(), absl::StrJoin(described.stages(), ","));
+  for (const auto& warning : described.warnings()) spdlog::warn("session {}: {}", (*session)->id(), warning);
   return session;
 }
 

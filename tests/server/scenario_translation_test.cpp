@@ -269,6 +269,18 @@ TEST(ScenarioTranslation, UnknownEnumNumbersAreReported) {
 
 // ---- Errors, with their full field paths.
 
+TEST(ScenarioTranslation, NearEdgeParametersAreWarnedOnTheirProtoPaths) {
+  const auto t = translate_scenario(parse(channel_with(
+      "fluid { omega: 1.97 } bodies { shape: BODY_SHAPE_DISK radius: 2 centre { x: 8 y: 4 } velocity { x: 0.06 } }")));
+  ASSERT_TRUE(t.ok()) << listed(t.errors);
+  ASSERT_EQ(t.warnings.size(), 2u) << listed(t.warnings);
+  EXPECT_EQ(t.warnings[0].rfind("scenario.fluid.omega: 1.97 is above 1.95", 0), 0u) << t.warnings[0];
+  // D2Q7: c_s = 1/2, so 0.06 is Mach 0.12.
+  EXPECT_EQ(t.warnings[1].rfind("scenario.bodies[0].velocity: initial Mach number 0.12 is above 0.1", 0), 0u)
+      << t.warnings[1];
+  EXPECT_TRUE(translate_scenario(parse(channel_with(""))).warnings.empty());
+}
+
 TEST(ScenarioTranslation, OmegaOutsideItsRange) {
   EXPECT_ERROR(errors_of("domain { nx: 4 ny: 4 } fluid { omega: 0 }"), "scenario.fluid.omega: must lie in (0, 2)");
   const auto errors = errors_of("domain { nx: 4 ny: 4 } fluid { omega: 2.5 }");

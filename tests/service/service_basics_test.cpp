@@ -106,6 +106,7 @@ TEST_F(ServiceBasics, SessionRunsToDoneAndItsFieldsEqualTheCoreRunInProcess) {
     ASSERT_TRUE(stub_->CreateSession(context.get(), create, &session).ok());
   }
   EXPECT_EQ(session.state(), v1::SESSION_STATE_CREATED);
+  EXPECT_EQ(session.warnings_size(), 0);
   EXPECT_EQ(session.cells(), 32 * 16);
   EXPECT_GT(session.particles(), 0);
   const std::vector<std::string> stages(session.stages().begin(), session.stages().end());
@@ -224,6 +225,17 @@ TEST_F(ServiceBasics, StepStopsBeforeTheDeadline) {
   EXPECT_GT(stepped.steps_taken(), 0);
   EXPECT_LT(stepped.steps_taken(), 10000);
   EXPECT_EQ(stepped.session().step(), stepped.steps_taken());
+}
+
+// A scenario near the edge of stability is accepted, with the quantity named in its warnings.
+TEST_F(ServiceBasics, NearEdgeScenarioIsCreatedWithAWarning) {
+  v1::CreateSessionRequest create;
+  *create.mutable_scenario() = small_channel_with_disk();
+  create.mutable_scenario()->mutable_fluid()->set_omega(1.97);
+  v1::Session session;
+  ASSERT_TRUE(stub_->CreateSession(deadline_context().get(), create, &session).ok());
+  ASSERT_EQ(session.warnings_size(), 1);
+  EXPECT_EQ(session.warnings(0).rfind("scenario.fluid.omega: 1.97 is above 1.95", 0), 0u) << session.warnings(0);
 }
 
 }  // namespace
