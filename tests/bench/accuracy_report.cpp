@@ -3,7 +3,7 @@
 // and collision operator that runs; for each run the error, wall time, MLUPS, memory and steps.
 // Prints the table, the observed order per method, the Pareto front of error against wall time
 // and the cheapest run reaching 10%, 1% and 0.1%; writes the table as CSV.
-//   lbsolid-accuracy-report [--quick] [--csv FILE] [--threads N] [--omega W]
+//   lbsolid-accuracy-report [--quick] [--csv FILE] [--threads N] [--omega W] [--max-disk-diameter D]
 // Plot: python3 tests/bench/plot_accuracy.py FILE [PNG]
 #include <cmath>
 #include <cstdio>
@@ -59,17 +59,26 @@ int main(int argc, char** argv) {
   bool quick = false;
   std::string csv = "accuracy.csv";
   RunSettings settings;
+  int max_disk_diameter = 37;
   for (int k = 1; k < argc; ++k) {
     if (!std::strcmp(argv[k], "--quick")) quick = true;
     else if (!std::strcmp(argv[k], "--csv") && k + 1 < argc) csv = argv[++k];
     else if (!std::strcmp(argv[k], "--threads") && k + 1 < argc) settings.threads = std::max(1, std::atoi(argv[++k]));
     else if (!std::strcmp(argv[k], "--omega") && k + 1 < argc) settings.omega = std::atof(argv[++k]);
+    else if (!std::strcmp(argv[k], "--max-disk-diameter") && k + 1 < argc) max_disk_diameter = std::atoi(argv[++k]);
     else {
-      std::fprintf(stderr, "usage: lbsolid-accuracy-report [--quick] [--csv FILE] [--threads N] [--omega W]\n");
+      std::fprintf(stderr,
+                   "usage: lbsolid-accuracy-report [--quick] [--csv FILE] [--threads N] [--omega W]"
+                   " [--max-disk-diameter D (9 to 65, default 37)]\n");
       return 2;
     }
   }
-  const SweepPlan plan = quick ? quick_plan() : full_plan();
+  if (max_disk_diameter < 25 || max_disk_diameter > 65) {
+    std::fprintf(stderr, "--max-disk-diameter: must lie in [25, 65] (three disks for a Richardson reference), got %d\n",
+                 max_disk_diameter);
+    return 2;
+  }
+  const SweepPlan plan = quick ? quick_plan() : full_plan(max_disk_diameter);
   std::vector<std::string> skipped;
   const std::vector<Method> methods = available_methods(settings, &skipped);
   std::printf("What accuracy costs (%s sweep, omega %.3g, %d thread%s; diffusive scaling)\n", quick ? "quick" : "full",
