@@ -14,9 +14,10 @@ deploy/setup.sh
 scenario=client-examples/scenarios/fig5_drag_disk.textproto
 steps=$(sed -n 's/^# *steps: *\([0-9]*\).*/\1/p' "$scenario" | head -n 1)
 out=out
-data=lbsolid-data
+data="$out/daemon-data"  # this run's daemon only: a rerun starts clean instead of recovering old sessions
+rm -rf "$data"
 mkdir -p "$out" "$data"
-rm -f "$out"/particles.h5 "$out"/fields.h5 "$out"/fields.xdmf "$out"/status.json "$out"/summary.txt "$data"/port
+rm -f "$out"/particles.h5 "$out"/fields.h5 "$out"/fields.xdmf "$out"/status.json "$out"/summary.txt
 
 build/server/lbsolidd --listen 127.0.0.1:0 --port_file "$data/port" --data_dir "$data" --log_level warn &
 daemon=$!
