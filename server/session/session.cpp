@@ -319,7 +319,9 @@ v1::ParticleFrame Session::particle_frame(const std::vector<int>& bodies) const 
     const auto& body = solid.body(b);
     auto* out = frame.add_bodies();
     out->set_name(body.name);
+    double energy = 0;
     for (int p = body.first; p < body.first + body.count; ++p) {
+      energy += solid.energy(p);
       const auto& r = solid.position(p);
       const auto u = sim_->particle_velocity(p);
       for (int a = 0; a < 3; ++a) {
@@ -331,6 +333,7 @@ v1::ParticleFrame Session::particle_frame(const std::vector<int>& bodies) const 
     *out->mutable_centre_of_mass() = to_proto(state.centre_of_mass);
     *out->mutable_mean_velocity() = to_proto(state.velocity);
     out->set_mass(state.mass);
+    out->set_energy(energy);
   }
   return frame;
 }

@@ -1,0 +1,12 @@
+"""Python client for lbsolidd (stubs generated from proto/lbsolid/v1 at build time).
+
+    from lbsolid_client import Client, LocalDaemon, load_scenario
+"""
+from ._stubs import scenario_pb2, simulation_pb2, simulation_pb2_grpc
+from .client import (Body, Client, Field, Particles, Profile, Recording, Session, SessionFailed,
+                     load_scenario, particles_from_proto, profile_from_proto)
+from .daemon import LocalDaemon
+
+__all__ = ["Body", "Client", "Field", "LocalDaemon", "Particles", "Profile", "Recording", "Session",
+           "SessionFailed", "load_scenario", "particles_from_proto", "profile_from_proto",
+           "scenario_pb2", "simulation_pb2", "simulation_pb2_grpc"]

@@ -1,0 +1,301 @@
+"""A small client for lbsolidd: create a session, run it, watch it, fetch what it computed.
+
+    client = Client("127.0.0.1:50051")
+    session = client.create(load_scenario("fig5_drag_disk.textproto"))
+    record = session.run_and_record(15000, particles_every=100, bodies=["disk"])
+    u = [frame.bodies["disk"].mean_velocity[0] for frame in record.particles]
+
+Every call has a deadline (`timeout`, seconds). Errors from the daemon arrive as grpc.RpcError
+with the status code and a message naming the field at fault; a session that fails while running
+raises SessionFailed with the daemon's "step N: cause".
+"""
+import threading
+import uuid
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import grpc
+import numpy as np
+from google.protobuf import json_format, text_format
+
+from ._stubs import scenario_pb2, simulation_pb2 as pb, simulation_pb2_grpc
+from .progress import ProgressBar
+
+FINAL_STATES = (pb.SESSION_STATE_DONE, pb.SESSION_STATE_FAILED, pb.SESSION_STATE_CANCELLED)
+
+
+class SessionFailed(RuntimeError):
+    """The session ended FAILED or CANCELLED; the message is the daemon's."""
+
+
+def load_scenario(path) -> "scenario_pb2.Scenario":
+    """A scenario file: protobuf text format, or JSON when its first non-blank character is '{'."""
+    text = Path(path).read_text()
+    scenario = scenario_pb2.Scenario()
+    if text.lstrip().startswith("{"):
+        json_format.Parse(text, scenario)
+    else:
+        text_format.Parse(text, scenario)
+    return scenario
+
+
+@dataclass
+class Profile:
+    """u_x averaged along x (and z) for each row y, at one step."""
+    step: int
+    y: np.ndarray
+    u_x: np.ndarray
+
+
+@dataclass
+class Body:
+    name: str
+    position: np.ndarray       # (particles, 3)
+    velocity: np.ndarray       # (particles, 3), u_s = Psi / M
+    centre_of_mass: np.ndarray  # (3,)
+    mean_velocity: np.ndarray   # (3,)
+    mass: float
+    energy: float               # sum_k |f_k|^2 over the body (MODEL.md eq. 9)
+
+
+@dataclass
+class Particles:
+    step: int
+    bodies: dict               # name -> Body
+
+
+@dataclass
+class Field:
+    name: str
+    step: int
+    values: np.ndarray         # [nz, ny, nx] or [nz, ny, nx, 3], x fastest
+    spacing: np.ndarray        # node spacing along x, y, z
+
+
+@dataclass
+class Recording:
+    session: "pb.Session"      # the session as it ended
+    profiles: list = field(default_factory=list)   # [Profile]
+    particles: list = field(default_factory=list)  # [Particles]
+
+
+def _vector(v) -> np.ndarray:
+    return np.array([v.x, v.y, v.z], dtype=np.float64)
+
+
+def profile_from_proto(frame) -> Profile:
+    return Profile(frame.step, np.array(frame.y, dtype=np.float64), np.array(frame.u_x, dtype=np.float64))
+
+
+def particles_from_proto(frame) -> Particles:
+    bodies = {}
+    for b in frame.bodies:
+        bodies[b.name] = Body(b.name,
+                              np.array(b.position, dtype=np.float64).reshape(-1, 3),
+                              np.array(b.velocity, dtype=np.float64).reshape(-1, 3),
+                              _vector(b.centre_of_mass), _vector(b.mean_velocity), b.mass, b.energy)
+    return Particles(frame.step, bodies)
+
+
+class Client:
+    def __init__(self, address: str, timeout: float = 30.0, options=None):
+        self.address = address
+        self.timeout = timeout
+        self.channel = grpc.insecure_channel(address, options=options or [])
+        self.stub = simulation_pb2_grpc.SimulationStub(self.channel)
+
+    def close(self):
+        self.channel.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def wait_ready(self, timeout: float = 30.0):
+        grpc.channel_ready_future(self.channel).result(timeout=timeout)
+        return self
+
+    def info(self):
+        return self.stub.GetServerInfo(pb.GetServerInfoRequest(), timeout=self.timeout)
+
+    def create(self, scenario, request_id: str = None) -> "Session":
+        """Creates a session; a request id (default: a fresh UUID) makes a retried call harmless."""
+        request = pb.CreateSessionRequest(scenario=scenario, request_id=request_id or str(uuid.uuid4()))
+        created = self.stub.CreateSession(request, timeout=self.timeout)
+        return Session(self, created.id, created)
+
+    def session(self, session_id: str) -> "Session":
+        return Session(self, session_id)
+
+    def list(self):
+        return list(self.stub.ListSessions(pb.ListSessionsRequest(), timeout=self.timeout).sessions)
+
+    def restore(self, checkpoint_id: str, request_id: str = None) -> "Session":
+        """A new session holding the checkpoint's state, ready to run on from its step."""
+        request = pb.RestoreRequest(checkpoint_id=checkpoint_id, request_id=request_id or str(uuid.uuid4()))
+        restored = self.stub.Restore(request, timeout=self.timeout)
+        return Session(self, restored.id, restored)
+
+
+class Session:
+    def __init__(self, client: Client, session_id: str, snapshot=None):
+        self.client = client
+        self.id = session_id
+        self.snapshot = snapshot  # the last Session message received
+
+    @property
+    def _stub(self):
+        return self.client.stub
+
+    def get(self):
+        self.snapshot = self._stub.GetSession(pb.GetSessionRequest(session_id=self.id), timeout=self.client.timeout)
+        return self.snapshot
+
+    def run(self, steps: int):
+        """Starts `steps` more steps in the background and returns at once (see wait)."""
+        self.snapshot = self._stub.Run(pb.RunRequest(session_id=self.id, steps=steps), timeout=self.client.timeout)
+        return self.snapshot
+
+    def step(self, steps: int):
+        """Takes up to `steps` steps before returning (fewer if the deadline comes first); PAUSED after."""
+        response = self._stub.Step(pb.StepRequest(session_id=self.id, steps=steps), timeout=self.client.timeout)
+        self.snapshot = response.session
+        return response
+
+    def pause(self):
+        return self._stub.Pause(pb.PauseRequest(session_id=self.id), timeout=self.client.timeout)
+
+    def resume(self):
+        return self._stub.Resume(pb.ResumeRequest(session_id=self.id), timeout=self.client.timeout)
+
+    def cancel(self):
+        return self._stub.Cancel(pb.CancelRequest(session_id=self.id), timeout=self.client.timeout)
+
+    def delete(self):
+        self._stub.DeleteSession(pb.DeleteSessionRequest(session_id=self.id), timeout=self.client.timeout)
+
+    def wait(self, progress=None, timeout: float = None, label: str = None):
+        """Follows the session until it stops running (DONE, PAUSED, FAILED or CANCELLED).
+
+        progress: draw a bar on stderr (default: when stderr is a terminal). Raises SessionFailed
+        when the session ends FAILED or CANCELLED.
+        """
+        bar = ProgressBar(label or self.id)
+        if progress is False:
+            bar.enabled = False
+        events = self._stub.WatchSession(pb.WatchSessionRequest(session_id=self.id, progress_interval_s=0.2),
+                                         timeout=timeout)
+        try:
+            for event in events:
+                kind = event.WhichOneof("event")
+                if kind == "progress":
+                    p = event.progress
+                    bar.update(p.step, p.target_step, p.steps_per_second, p.estimated_seconds_left)
+                elif kind == "state_changed" and event.state_changed.to != pb.SESSION_STATE_RUNNING:
+                    break
+        finally:
+            events.cancel()
+            bar.close()
+        return self._raise_if_failed(self.get())
+
+    def _raise_if_failed(self, snapshot):
+        if snapshot.state in (pb.SESSION_STATE_FAILED, pb.SESSION_STATE_CANCELLED):
+            state = pb.SessionState.Name(snapshot.state)
+            raise SessionFailed(f"session {self.id} {state} at step {snapshot.step}: {snapshot.message}")
+        return snapshot
+
+    def watch_profiles(self, every: int, lossless: bool = True, timeout: float = None):
+        """Profile frames every `every` steps: first the current state, then until the run ends."""
+        delivery = pb.DELIVERY_MODE_EVERY_FRAME if lossless else pb.DELIVERY_MODE_LATEST_FRAME
+        request = pb.WatchProfilesRequest(session_id=self.id, every=every, delivery=delivery)
+        return self._stub.WatchProfiles(request, timeout=timeout)
+
+    def watch_particles(self, every: int, bodies=(), lossless: bool = True, timeout: float = None):
+        delivery = pb.DELIVERY_MODE_EVERY_FRAME if lossless else pb.DELIVERY_MODE_LATEST_FRAME
+        request = pb.WatchParticlesRequest(session_id=self.id, every=every, delivery=delivery, bodies=list(bodies))
+        return self._stub.WatchParticles(request, timeout=timeout)
+
+    def run_and_record(self, steps: int, profiles_every: int = 0, particles_every: int = 0, bodies=(),
+                       progress=None, label: str = None) -> Recording:
+        """Runs `steps` steps and records every profile and particle frame asked for, losing none.
+
+        The streams are opened first and their first frame (the current state) awaited, so Run
+        starts only once both are listening. The session must not be DONE (the daemon closes a
+        DONE session's streams after their first frame): record from CREATED or PAUSED, or use
+        one call for the whole run.
+        """
+        streams = []
+        if profiles_every > 0:
+            streams.append(("profiles", self.watch_profiles(profiles_every), profile_from_proto))
+        if particles_every > 0:
+            streams.append(("particles", self.watch_particles(particles_every, bodies), particles_from_proto))
+        collected = {name: [] for name, _, _ in streams}
+        errors = []
+        first_frames = [threading.Event() for _ in streams]
+
+        def drain(index, name, stream, convert):
+            try:
+                for frame in stream:
+                    collected[name].append(convert(frame))
+                    first_frames[index].set()
+            except grpc.RpcError as error:
+                if error.code() != grpc.StatusCode.CANCELLED:
+                    errors.append(error)
+            finally:
+                first_frames[index].set()
+
+        threads = [threading.Thread(target=drain, args=(i, *s), daemon=True) for i, s in enumerate(streams)]
+        for t in threads:
+            t.start()
+        try:
+            for event in first_frames:
+                if not event.wait(timeout=self.client.timeout):
+                    raise TimeoutError(f"session {self.id}: no first frame within {self.client.timeout} s")
+            if errors:
+                raise errors[0]
+            self.run(steps)
+            final = self.wait(progress=progress, label=label)
+            for t in threads:  # the streams end by themselves once the session is DONE
+                t.join(timeout=self.client.timeout)
+        finally:
+            for _, stream, _ in streams:
+                stream.cancel()
+            for t in threads:
+                t.join(timeout=self.client.timeout)
+        if errors:
+            raise errors[0]
+        return Recording(final, collected.get("profiles", []), collected.get("particles", []))
+
+    def fields(self, names=("density", "velocity"), chunk_bytes: int = 1 << 20) -> dict:
+        """The whole fields at the current step, as numpy arrays (header shape, float64)."""
+        request = pb.GetFieldRequest(session_id=self.id, fields=list(names), chunk_bytes=chunk_bytes)
+        out, header, buffer = {}, None, None
+
+        def finish():
+            if header is not None:
+                if len(buffer) != header.total_bytes:
+                    raise IOError(f"field {header.name}: got {len(buffer)} of {header.total_bytes} bytes")
+                values = np.frombuffer(bytes(buffer), dtype="<f8").reshape(tuple(header.shape))
+                out[header.name] = Field(header.name, header.step, values, _vector(header.spacing))
+
+        for message in self._stub.GetField(request, timeout=self.client.timeout):
+            part = message.WhichOneof("part")
+            if part == "header":
+                finish()
+                header, buffer = message.header, bytearray()
+            elif part == "chunk":
+                if message.chunk.offset != len(buffer):
+                    raise IOError(f"field {header.name}: chunk at offset {message.chunk.offset}, expected {len(buffer)}")
+                buffer += message.chunk.data
+        finish()
+        return out
+
+    def field(self, name: str) -> Field:
+        return self.fields([name])[name]
+
+    def checkpoint(self):
+        """Writes a checkpoint; returns its id (restore it with Client.restore) and file."""
+        return self._stub.Checkpoint(pb.CheckpointRequest(session_id=self.id), timeout=self.client.timeout)
