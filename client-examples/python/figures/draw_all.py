@@ -1,0 +1,54 @@
+"""Redraws every figure of the paper through lbsolidd and prints the paper's values beside ours.
+
+    /usr/bin/python3 client-examples/python/figures/draw_all.py [--quick] [--address HOST:PORT] [--out DIR]
+
+Without --address it starts a private daemon on a free loopback port. Each figure writes its PNG
+and CSV into --out (default out/figures); the table of paper against ours goes to summary.md and
+summary.csv there. --quick runs small versions of every experiment (a few minutes in all).
+"""
+import importlib
+import sys
+import time
+from pathlib import Path
+
+from figure_common import connect, parse_args, print_rows, write_csv
+
+FIGURES = ["fig1_bouncing_sheet", "fig4_slip", "fig5_drag", "fig6_chains", "fig7_relaxation"]
+
+
+def write_markdown(path: Path, rows, quick: bool, seconds: dict):
+    lines = [f"Paper against ours ({'--quick' if quick else 'full'} run)", "",
+             "| Figure | Quantity | Paper | Ours | Note |", "|---|---|---|---|---|"]
+    lines += [f"| {r.figure} | {r.quantity} | {r.paper} | {r.ours} | {r.note} |" for r in rows]
+    lines += ["", "Wall time per figure: " + ", ".join(f"{k} {v:.0f} s" for k, v in seconds.items())]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def main(argv=None):
+    args = parse_args("figures", argv)
+    out_dir = Path(args.out)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    client, daemon = connect(args.address)
+    rows, seconds = [], {}
+    try:
+        for name in FIGURES:
+            module = importlib.import_module(name)
+            started = time.monotonic()
+            print(f"== {name} ({'quick' if args.quick else 'full'})", flush=True)
+            figure_rows = module.draw(client, out_dir, args.quick)
+            seconds[name] = time.monotonic() - started
+            print_rows(figure_rows)
+            rows += figure_rows
+    finally:
+        client.close()
+        if daemon:
+            daemon.stop()
+    write_csv(out_dir / "summary.csv", ["figure", "quantity", "paper", "ours", "note"],
+              [[r.figure, r.quantity, r.paper, r.ours, r.note] for r in rows])
+    write_markdown(out_dir / "summary.md", rows, args.quick, seconds)
+    print(f"\nall figures: {sum(seconds.values()):.0f} s; table in {out_dir / 'summary.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,140 @@
+"""End to end: the Python client against a real lbsolidd, checked against the core run in process.
+
+The daemon runs on a free loopback port (LocalDaemon); lbsolid-reference runs the same scenario file
+through the same translation and core in process and prints, as exact hexadecimal floats, what the
+client should receive. Every number must match to the last bit (float64 ==, not a tolerance): the
+daemon adds nothing to the physics, and the wire carries doubles exactly.
+
+Run by ctest (python_client_matches_core) with LBSOLIDD, LBSOLID_REFERENCE and LBSOLID_PYTHON_STUBS
+set by CMake; by hand: /usr/bin/python3 tests/clients/python_client_test.py from the repository root
+after a build in ./build.
+"""
+import os
+import subprocess
+import sys
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+REPOSITORY = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPOSITORY / "client-examples" / "python"))
+
+from lbsolid_client import Client, LocalDaemon, load_scenario  # noqa: E402
+
+SCENARIO = Path(__file__).resolve().parent / "python_small_scenario.textproto"
+REFERENCE = Path(os.environ.get("LBSOLID_REFERENCE", REPOSITORY / "build" / "tests" / "lbsolid-reference"))
+STEPS = 300
+EVERY = 20
+
+
+def hex_values(words):
+    return np.array([float.fromhex(w) for w in words], dtype=np.float64)
+
+
+def reference_run(steps, profiles_every=0, particles_every=0, fields=False):
+    """Parses lbsolid-reference's records into profiles, bodies per step, and fields."""
+    args = [str(REFERENCE), str(SCENARIO), "--steps", str(steps)]
+    if profiles_every:
+        args += ["--profiles-every", str(profiles_every)]
+    if particles_every:
+        args += ["--particles-every", str(particles_every)]
+    if fields:
+        args.append("--fields")
+    text = subprocess.run(args, check=True, capture_output=True, text=True).stdout
+    profiles, bodies, field_values = [], {}, {}
+    for line in text.splitlines():
+        words = line.split()
+        if words[0] == "profile":
+            step, n = int(words[1]), int(words[2])
+            values = hex_values(words[3:])
+            profiles.append((step, values[:n], values[n:]))
+        elif words[0] == "body":
+            step, name, n = int(words[1]), words[2], int(words[3])
+            v = hex_values(words[4:])
+            bodies.setdefault(step, {})[name] = {
+                "position": v[:3 * n].reshape(-1, 3), "velocity": v[3 * n:6 * n].reshape(-1, 3),
+                "centre_of_mass": v[6 * n:6 * n + 3], "mean_velocity": v[6 * n + 3:6 * n + 6],
+                "mass": v[6 * n + 6], "energy": v[6 * n + 7]}
+        elif words[0] == "field":
+            field_values[words[1]] = (int(words[2]), hex_values(words[4:]))
+    return profiles, bodies, field_values
+
+
+def bit_equal(a, b):
+    """Equal as float64 values, element by element (both zero signs count as equal, NaN never)."""
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    return a.shape == b.shape and bool(np.all(a == b))
+
+
+class PythonClientMatchesCore(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.daemon = LocalDaemon().start()
+        cls.client = Client(cls.daemon.address, timeout=30).wait_ready()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.client.close()
+        cls.daemon.stop()
+
+    def test_streamed_frames_and_fields_equal_the_core_bit_for_bit(self):
+        session = self.client.create(load_scenario(SCENARIO))
+        record = session.run_and_record(STEPS, profiles_every=EVERY, particles_every=EVERY, progress=False)
+        fields = session.fields()
+        expected_profiles, expected_bodies, expected_fields = reference_run(STEPS, EVERY, EVERY, fields=True)
+
+        self.assertEqual(record.session.step, STEPS)
+        self.assertEqual(len(expected_profiles), STEPS // EVERY + 1)
+        self.assertEqual([p.step for p in record.profiles], [step for step, _, _ in expected_profiles])
+        for got, (step, y, u_x) in zip(record.profiles, expected_profiles):
+            self.assertTrue(bit_equal(got.y, y), f"profile y at step {step}")
+            self.assertTrue(bit_equal(got.u_x, u_x), f"profile u_x at step {step}: {got.u_x} vs {u_x}")
+        # The run moves things: a comparison of frames that never change would prove little.
+        self.assertGreater(np.abs(record.profiles[-1].u_x).max(), 1e-4)
+
+        self.assertEqual([f.step for f in record.particles], sorted(expected_bodies))
+        for frame in record.particles:
+            expected = expected_bodies[frame.step]
+            self.assertEqual(sorted(frame.bodies), sorted(expected))
+            for name, body in frame.bodies.items():
+                for quantity, value in expected[name].items():
+                    self.assertTrue(bit_equal(getattr(body, quantity), value),
+                                    f"step {frame.step} body {name} {quantity}: {getattr(body, quantity)} vs {value}")
+        plate_start = record.particles[0].bodies["plate"].centre_of_mass
+        plate_end = record.particles[-1].bodies["plate"].centre_of_mass
+        self.assertGreater(plate_end[0] - plate_start[0], 0.1)  # it moved 0.33 along its load
+
+        for name in ("density", "velocity"):
+            step, values = expected_fields[name]
+            self.assertEqual(fields[name].step, step)
+            self.assertTrue(bit_equal(fields[name].values.reshape(-1), values), f"field {name}")
+
+    def test_checkpoint_restored_and_run_on_equals_one_uninterrupted_run(self):
+        half = STEPS // 2
+        first = self.client.create(load_scenario(SCENARIO))
+        first.run(half)
+        self.assertEqual(first.wait(progress=False).step, half)
+        checkpoint = first.checkpoint()
+        self.assertEqual(checkpoint.step, half)
+
+        restored = self.client.restore(checkpoint.checkpoint_id)
+        restored.run(STEPS - half)
+        self.assertEqual(restored.wait(progress=False).step, STEPS)
+        _, _, expected_fields = reference_run(STEPS, fields=True)
+        fields = restored.fields()
+        for name in ("density", "velocity"):
+            self.assertTrue(bit_equal(fields[name].values.reshape(-1), expected_fields[name][1]), f"field {name}")
+
+    def test_bad_input_names_the_field(self):
+        import grpc
+        scenario = load_scenario(SCENARIO)
+        scenario.fluid.omega = 2.5
+        with self.assertRaises(grpc.RpcError) as caught:
+            self.client.create(scenario)
+        self.assertEqual(caught.exception.code(), grpc.StatusCode.INVALID_ARGUMENT)
+        self.assertIn("scenario.fluid.omega", caught.exception.details())
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
