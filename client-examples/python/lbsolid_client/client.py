@@ -78,6 +78,16 @@ class Recording:
     profiles: list = field(default_factory=list)   # [Profile]
     particles: list = field(default_factory=list)  # [Particles]
 
+    def trajectory(self, body: str):
+        """(steps, positions (frames, particles, 3)) of one body over the recorded frames."""
+        steps = np.array([f.step for f in self.particles], dtype=np.int64)
+        return steps, np.stack([f.bodies[body].position for f in self.particles])
+
+    def body_series(self, body: str, quantity: str):
+        """(steps, values) of one body quantity (centre_of_mass, mean_velocity, mass, energy)."""
+        steps = np.array([f.step for f in self.particles], dtype=np.int64)
+        return steps, np.array([getattr(f.bodies[body], quantity) for f in self.particles])
+
 
 def _vector(v) -> np.ndarray:
     return np.array([v.x, v.y, v.z], dtype=np.float64)
