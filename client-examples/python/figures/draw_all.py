@@ -4,22 +4,24 @@
 
 Without --address it starts a private daemon on a free loopback port. Each figure writes its PNG
 and CSV into --out (default out/figures); the table of paper against ours goes to summary.md and
-summary.csv there. --quick runs small versions of every experiment (a few minutes in all).
+summary.csv there. --quick runs small versions of every experiment (a few minutes in all);
+--strict exits 1 when a row fails the bound it is checked against (the CI test uses both).
 """
 import importlib
 import sys
 import time
 from pathlib import Path
 
-from figure_common import connect, parse_args, print_rows, write_csv
+from figure_common import connect, failed_checks, parse_args, print_rows, write_csv
 
 FIGURES = ["fig1_bouncing_sheet", "fig4_slip", "fig5_drag", "fig6_chains", "fig7_relaxation"]
 
 
 def write_markdown(path: Path, rows, quick: bool, seconds: dict):
     lines = [f"Paper against ours ({'--quick' if quick else 'full'} run)", "",
-             "| Figure | Quantity | Paper | Ours | Note |", "|---|---|---|---|---|"]
-    lines += [f"| {r.figure} | {r.quantity} | {r.paper} | {r.ours} | {r.note} |" for r in rows]
+             "| Figure | Quantity | Paper | Ours | Check | Note |", "|---|---|---|---|---|---|"]
+    lines += [f"| {r.figure} | {r.quantity} | {r.paper} | {r.ours} | "
+              f"{f'{r.verdict()}: {r.check}' if r.check else ''} | {r.note} |" for r in rows]
     lines += ["", "Wall time per figure: " + ", ".join(f"{k} {v:.0f} s" for k, v in seconds.items())]
     path.write_text("\n".join(lines) + "\n")
 
@@ -43,11 +45,14 @@ def main(argv=None):
         client.close()
         if daemon:
             daemon.stop()
-    write_csv(out_dir / "summary.csv", ["figure", "quantity", "paper", "ours", "note"],
-              [[r.figure, r.quantity, r.paper, r.ours, r.note] for r in rows])
+    write_csv(out_dir / "summary.csv", ["figure", "quantity", "paper", "ours", "note", "check", "verdict"],
+              [[r.figure, r.quantity, r.paper, r.ours, r.note, r.check, r.verdict()] for r in rows])
     write_markdown(out_dir / "summary.md", rows, args.quick, seconds)
     print(f"\nall figures: {sum(seconds.values()):.0f} s; table in {out_dir / 'summary.md'}")
-    return 0
+    failures = failed_checks(rows)
+    for r in failures:
+        print(f"FAILED: {r.figure} {r.quantity}: {r.ours} does not meet {r.check}", file=sys.stderr)
+    return 1 if failures and args.strict else 0
 
 
 if __name__ == "__main__":

@@ -131,9 +131,11 @@ def draw(client, out_dir, quick):
         Row("Fig. 1", "bounces (sign changes of u_x, u_y)", "keeps bouncing", f"{bounces(elastic)} in {steps} steps",
             f"{len(stretches)} contact-free stretches, {free_steps} free steps"),
         Row("Fig. 1", "COM distance from a straight line between contacts", "straight line (momentum conserved)",
-            f"{worst:.1e}", "largest over all contact-free stretches (lattice units)"),
+            f"{worst:.1e}", "largest over all contact-free stretches (lattice units)",
+            check="< 1e-9 (round-off: eq. 8 conserves momentum)", passed=worst < 1e-9),
         Row("Fig. 1", "relative drift of E = sum |f_k|^2, e = 1", "elastic bounce (no number given)", f"{drift:.1e}",
-            f"max |E - E0| / E0 over {steps} steps"),
+            f"max |E - E0| / E0 over {steps} steps",
+            check="< 1e-10 (eq. 10: E is unchanged by an elastic contact)", passed=drift < 1e-10),
         Row("Fig. 1", "mean-motion energy M|u|^2/2 at the end, e = 1", "(not discussed)",
             f"{100 * elastic.kinetic[-1] / elastic.energy[-1]:.1f}% of E",
             "E is conserved, but each bounce leaves part of it in undamped internal vibration; "

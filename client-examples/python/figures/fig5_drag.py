@@ -229,22 +229,27 @@ def rows_for(pulls, line, setup, d, nu):
     unconverged = [p for p in pulls if p.rate * setup.steps < CONVERGED_AT]
     choice = f"omega {OMEGA} TRT (nu {nu:.4g}) so Re 100 stays at Mach {top.mach:.2f}; D {d:g}"
     shown = nearest(pulls, 1.0)
+    worst_r2 = min(p.r2 for p in pulls)
+    deviation = top.drag * top.reynolds / (low.drag * low.reynolds)
     return [
-        Row("Fig. 5", "u(t) = u_inf (1 - e^{-a t}): worst R^2", "fits (no number)", f"{min(p.r2 for p in pulls):.4f}",
+        Row("Fig. 5", "u(t) = u_inf (1 - e^{-a t}): worst R^2", "fits (no number)", f"{worst_r2:.4f}",
             f"Re {shown.reynolds:.2f}: a {shown.rate:.3e}, u_inf {shown.u_inf:.3e}, R^2 {shown.r2:.4f}; "
             f"{len(pulls) - len(unconverged)}/{len(pulls)} runs with a T > {CONVERGED_AT:g} "
             f"(smallest a T {min(p.rate for p in pulls) * setup.steps:.1f}); u at the end / fitted u_inf "
-            f"{min(p.u_end / p.u_inf for p in pulls):.4f} .. {max(p.u_end / p.u_inf for p in pulls):.4f}"),
+            f"{min(p.u_end / p.u_inf for p in pulls):.4f} .. {max(p.u_end / p.u_inf for p in pulls):.4f}",
+            check="R^2 > 0.99", passed=worst_r2 > 0.99),
         Row("Fig. 5", "Re range", "up to ~10^2", f"{low.reynolds:.3g} .. {pulls[-1].reynolds:.3g}",
             f"{len(pulls)} loads, {setup.steps} steps each; {choice}"),
         Row("Fig. 5", f"slope of log c_d vs log Re, Re < {STOKES_RE:g}", "-1 (Stokes)", f"{slope:.3f}",
-            f"{n_low} points, Re {low.reynolds:.3g} .. {max(p.reynolds for p in pulls if p.reynolds < STOKES_RE):.3g}"),
+            f"{n_low} points, Re {low.reynolds:.3g} .. {max(p.reynolds for p in pulls if p.reynolds < STOKES_RE):.3g}",
+            check="-1 +- 0.1", passed=abs(slope + 1) < 0.1),
         Row("Fig. 5", f"c_d Re at Re {top.reynolds:.0f} / at Re {low.reynolds:.2g}", "small deviation near 10^2",
-            f"{top.drag * top.reynolds / (low.drag * low.reynolds):.3f}",
+            f"{deviation:.3f}",
             f"measured c_d / Stokes-line extrapolation at Re {top.reynolds:.0f}: "
             f"{top.drag / math.exp(intercept + slope * math.log(top.reynolds)):.3f}"
             + (f"; at the largest Re {pulls[-1].reynolds:.0f}: c_d Re ratio "
-               f"{pulls[-1].drag * pulls[-1].reynolds / (low.drag * low.reynolds):.3f}" if pulls[-1] is not top else "")),
+               f"{pulls[-1].drag * pulls[-1].reynolds / (low.drag * low.reynolds):.3f}" if pulls[-1] is not top else ""),
+            check="1 < ratio < 1.2 (above Stokes, but small)", passed=1.0 < deviation < 1.2),
         Row("Fig. 5", "unsteady wake (disk sways across the channel)", "(not discussed)",
             ", ".join(f"Re {p.reynolds:.0f}" for p in pulls if p.sway > SWAY) or "none",
             f"centre of mass moves > {SWAY:g} across the channel in the last quarter of the run (largest "

@@ -12,6 +12,7 @@ import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Optional
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))  # lbsolid_client
@@ -32,6 +33,11 @@ class Row:
     paper: str       # the paper's value or statement
     ours: str        # what this run measured
     note: str = ""   # channel, counts, why they differ
+    check: str = ""  # the bound this row is held to (from the paper or a conservation law), if any
+    passed: Optional[bool] = None  # whether `ours` met `check`; None when the row is not checked
+
+    def verdict(self) -> str:
+        return "" if self.passed is None else ("ok" if self.passed else "FAILED")
 
 
 def write_csv(path: Path, header, rows):
@@ -45,7 +51,12 @@ def write_csv(path: Path, header, rows):
 
 def print_rows(rows):
     for r in rows:
-        print(f"  {r.figure:7s} {r.quantity:45s} paper: {r.paper:28s} ours: {r.ours:28s} {r.note}")
+        check = f" [{r.verdict()}: {r.check}]" if r.check else ""
+        print(f"  {r.figure:7s} {r.quantity:45s} paper: {r.paper:28s} ours: {r.ours:28s} {r.note}{check}")
+
+
+def failed_checks(rows):
+    return [r for r in rows if r.passed is False]
 
 
 def parse_args(figure: str, argv=None):
@@ -53,6 +64,7 @@ def parse_args(figure: str, argv=None):
     parser.add_argument("--quick", action="store_true", help="a small, fast version (seconds to a minute)")
     parser.add_argument("--address", help="HOST:PORT of a running lbsolidd (default: start a private one)")
     parser.add_argument("--out", default="out/figures", help="directory for the PNG and CSV files")
+    parser.add_argument("--strict", action="store_true", help="exit 1 when a checked row fails its bound")
     return parser.parse_args(argv)
 
 
@@ -79,4 +91,6 @@ def run_figure(draw, figure: str, argv=None):
         client.close()
         if daemon:
             daemon.stop()
+    if args.strict and failed_checks(rows):
+        sys.exit(1)
     return rows
