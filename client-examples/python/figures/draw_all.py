@@ -20,8 +20,10 @@ FIGURES = ["fig1_bouncing_sheet", "fig4_slip", "fig5_drag", "fig6_chains", "fig7
 def write_markdown(path: Path, rows, quick: bool, seconds: dict):
     lines = [f"Paper against ours ({'--quick' if quick else 'full'} run)", "",
              "| Figure | Quantity | Paper | Ours | Check | Note |", "|---|---|---|---|---|---|"]
-    lines += [f"| {r.figure} | {r.quantity} | {r.paper} | {r.ours} | "
-              f"{f'{r.verdict()}: {r.check}' if r.check else ''} | {r.note} |" for r in rows]
+    for r in rows:
+        check = f"{r.verdict()}: {r.check}" if r.check else ""
+        cells = [r.figure, r.quantity, r.paper, r.ours, check, r.note]
+        lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")  # |u| must not split a cell
     lines += ["", "Wall time per figure: " + ", ".join(f"{k} {v:.0f} s" for k, v in seconds.items())]
     path.write_text("\n".join(lines) + "\n")
 
