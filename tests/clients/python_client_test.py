@@ -20,7 +20,7 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPOSITORY / "client-examples" / "python"))
 
-from lbsolid_client import Client, LocalDaemon, load_scenario  # noqa: E402
+from lbsolid_client import Client, LocalDaemon, SessionFailed, load_scenario  # noqa: E402
 
 SCENARIO = Path(__file__).resolve().parent / "python_small_scenario.textproto"
 REFERENCE = Path(os.environ.get("LBSOLID_REFERENCE", REPOSITORY / "build" / "tests" / "lbsolid-reference"))
@@ -125,6 +125,26 @@ class PythonClientMatchesCore(unittest.TestCase):
         fields = restored.fields()
         for name in ("density", "velocity"):
             self.assertTrue(bit_equal(fields[name].values.reshape(-1), expected_fields[name][1]), f"field {name}")
+
+    def test_a_diverging_run_raises_session_failed_with_the_daemons_cause(self):
+        scenario = load_scenario(SCENARIO)
+        scenario.fluid.body_force.x = 0.01  # drives the channel past the Mach limit within a few hundred steps
+        scenario.stability.check_interval = 1  # checked every step: caught at the Mach limit, before any blow-up
+        session = self.client.create(scenario)
+        with self.assertRaises(SessionFailed) as caught:
+            session.run_and_record(5000, profiles_every=50, progress=False)
+        self.assertIn("FAILED", str(caught.exception))
+        self.assertRegex(str(caught.exception), r"step \d+: Mach number")
+
+    def test_recording_a_done_session_is_refused_not_silently_short(self):
+        session = self.client.create(load_scenario(SCENARIO))
+        session.run_and_record(20, profiles_every=10, progress=False)
+        with self.assertRaisesRegex(ValueError, "is DONE"):
+            session.run_and_record(20, profiles_every=10, progress=False)
+        # Advanced with Step, it is PAUSED and records again, from where it stands.
+        session.step(1)
+        record = session.run_and_record(19, profiles_every=10, progress=False)
+        self.assertEqual([p.step for p in record.profiles], [21, 30, 40])
 
     def test_bad_input_names_the_field(self):
         import grpc

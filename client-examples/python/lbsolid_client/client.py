@@ -237,6 +237,11 @@ class Session:
         DONE session's streams after their first frame): record from CREATED or PAUSED, or use
         one call for the whole run.
         """
+        if self.get().state == pb.SESSION_STATE_DONE:
+            raise ValueError(
+                f"session {self.id} is DONE: the daemon ends a DONE session's streams after their first "
+                "frame, so frames of a further run would be lost; record the whole run in one call, or "
+                "advance it with step() (which leaves it PAUSED) before recording again")
         streams = []
         if profiles_every > 0:
             streams.append(("profiles", self.watch_profiles(profiles_every), profile_from_proto))
