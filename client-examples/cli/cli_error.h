@@ -21,7 +21,7 @@ struct RpcError : std::runtime_error {
   std::string rpc;
   grpc::StatusCode code;
   std::string detail;  // the status message alone
-  ExitCode exit_code() const { return exit_code_for(code); }
+  ExitCode exit_code() const { return exit_code_for(grpc::Status(code, detail)); }
 };
 
 }  // namespace lbsolid::cli

@@ -28,6 +28,16 @@ ExitCode exit_code_for(grpc::StatusCode code) {
   }
 }
 
+ExitCode exit_code_for(const grpc::Status& status) {
+  const std::string& message = status.error_message();
+  if (status.error_code() == grpc::StatusCode::INTERNAL && message.empty()) return kExitBadInput;
+  if (status.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED &&
+      (message.find("message larger than max") != std::string::npos ||
+       message.find("metadata size") != std::string::npos))
+    return kExitBadInput;
+  return exit_code_for(status.error_code());
+}
+
 std::string status_code_name(grpc::StatusCode code) {
   switch (code) {
     case grpc::StatusCode::OK: return "OK";
@@ -58,7 +68,9 @@ const char* exit_code_help() {
          "     do not retry\n"
          "  2  bad input: usage error, unreadable or invalid scenario file, or the daemon rejected the\n"
          "     request (INVALID_ARGUMENT, NOT_FOUND, ALREADY_EXISTS, FAILED_PRECONDITION, OUT_OF_RANGE,\n"
-         "     UNIMPLEMENTED, PERMISSION_DENIED, UNAUTHENTICATED, DATA_LOSS); do not retry\n"
+         "     UNIMPLEMENTED, PERMISSION_DENIED, UNAUTHENTICATED, DATA_LOSS, INTERNAL with no message:\n"
+         "     a request gRPC could not parse, RESOURCE_EXHAUSTED for a message over gRPC's size limit);\n"
+         "     do not retry\n"
          "  3  daemon unreachable or transient failure (UNAVAILABLE, DEADLINE_EXCEEDED,\n"
          "     RESOURCE_EXHAUSTED, ABORTED, INTERNAL, UNKNOWN, CANCELLED); retry\n"
          "     (submit is idempotent when retried with the same --request-id)\n";

@@ -19,6 +19,10 @@ enum ExitCode : int {
 // (UNAVAILABLE, DEADLINE_EXCEEDED, RESOURCE_EXHAUSTED, ABORTED, INTERNAL, UNKNOWN, CANCELLED,
 // DATA_LOSS) is 3. OK is 0.
 ExitCode exit_code_for(grpc::StatusCode code);
+// As above, with two permanent failures that arrive under transient codes: INTERNAL with no
+// message (gRPC could not parse the request: the same bytes fail again) and RESOURCE_EXHAUSTED
+// for a message over gRPC's size limit (the same call passes it again) are 2.
+ExitCode exit_code_for(const grpc::Status& status);
 
 // "NOT_FOUND" etc.
 std::string status_code_name(grpc::StatusCode code);

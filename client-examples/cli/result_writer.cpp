@@ -11,9 +11,12 @@
 #include <stdexcept>
 
 #include "json_writer.h"
-#include "sha256.h"
+#include "server/storage/sha256.h"
 
 namespace lbsolid::cli {
+
+using server::storage::Sha256;
+using server::storage::sha256_file_hex;
 
 std::vector<FileEntry> describe_files(const std::string& dir, const std::vector<std::string>& names) {
   std::vector<FileEntry> files;

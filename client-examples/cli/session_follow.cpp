@@ -142,7 +142,7 @@ Session follow(Daemon& daemon, const std::string& session_id, ProgressReporter& 
     const grpc::Status stream_status = stream.finish();
     if (final_session) return *final_session;
     // The stream ended by itself: normally because the session reached a final state.
-    if (!stream_status.ok() && exit_code_for(stream_status.error_code()) != kExitTransient)
+    if (!stream_status.ok() && exit_code_for(stream_status) != kExitTransient)
       throw RpcError("WatchSession", stream_status);
     try {
       const Session s = daemon.call("GetSession", &Stub::GetSession, get);

@@ -3,6 +3,10 @@
 // section 3): square/cubic rounding on D2Q9 and D3Q19; on D2Q7 the nearest point of the triangular
 // grid, which lies in one of the two rows around the position. Periodic axes wrap; walled axes
 // clamp to the first or last node.
+// Any double is accepted (a diverging particle reaches NaN or 1e300 between two monitor checks):
+// each coordinate is first clamped to +-2^40, far beyond any grid, so the casts to long below are
+// defined; +-inf and huge values then behave as positions just outside the box (the first or last
+// node of a walled axis, some node of a periodic one), and a NaN coordinate is read as 0.
 #include <array>
 #include <cmath>
 
@@ -21,12 +25,13 @@ class NodeLocator {
                   c.sides[fluid::kYLow].kind == fluid::WallKind::kPeriodic,
                   c.sides[fluid::kZLow].kind == fluid::WallKind::kPeriodic} {}
 
-  Node nearest(const fluid::Vec3& r) const {
+  Node nearest(const fluid::Vec3& position) const {
     if constexpr (!L::hexagonal) {
       Node node{0, 0, 0};
-      for (int a = 0; a < L::D; ++a) node[a] = fit(a, nearest_integer(r[a]));
+      for (int a = 0; a < L::D; ++a) node[a] = fit(a, nearest_integer(finite(position[a])));
       return node;
     } else {
+      const double r[2] = {finite(position[0]), finite(position[1])};
       const long below = static_cast<long>(std::floor(r[1] / L::row_spacing));
       Node best{0, 0, 0};
       double best_d2 = INFINITY;
@@ -50,6 +55,10 @@ class NodeLocator {
   }
 
  private:
+  // 2^40 leaves the rounding exact (a double's step there is 2^-12) and i % n free of overflow.
+  static constexpr double kLimit = 1099511627776.0;
+  // Written so that NaN, for which every comparison is false, becomes 0.
+  static double finite(double v) { return v >= -kLimit ? (v <= kLimit ? v : kLimit) : (v < 0 ? -kLimit : 0.0); }
   // Halves round up; unlike std::lround this inlines (it was a library call per particle).
   static long nearest_integer(double v) { return static_cast<long>(std::floor(v + 0.5)); }
   int fit(int axis, long i) const {

@@ -1,6 +1,8 @@
 #include "observe/stability.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 #include <sstream>
 
 namespace lbsolid::observe {
@@ -21,47 +23,55 @@ std::string node_name(long cell, const std::array<int, 3>& shape) {
 }
 
 std::string check_fluid(const scene::Simulation& simulation, const StabilityLimits& limits) {
-  const auto fields = simulation.fluid_fields();
+  const auto& c = simulation.scene().fluid;
+  const std::array<int, 3> shape{c.nx, c.ny, c.nz};
+  const long cells = static_cast<long>(c.nx) * c.ny * c.nz;
   const double cs = std::sqrt(sound_speed_squared(simulation.scene().lattice));
-  const double rho0 = simulation.scene().fluid.rho0;
+  const double rho0 = c.rho0;
   const double low = limits.min_density * rho0, high = limits.max_density * rho0;
-  // One pass: a non-finite value ends it at once; the extremes of density and Mach are kept, so
-  // the message names the worst node rather than the first one past a limit.
+  // One pass over blocks of nodes (never a copy of the whole field): a non-finite value ends it at
+  // once; the extremes of density and Mach are kept, so the message names the worst node rather
+  // than the first one past a limit.
+  constexpr long kBlock = 4096;
+  std::vector<double> density(kBlock), velocity(3 * kBlock);
   long lowest = -1, highest = -1, fastest = -1;
-  double worst_mach = 0;
-  for (std::size_t c = 0; c < fields.density.size(); ++c) {
-    const double rho = fields.density[c];
-    const fluid::Vec3 u{fields.velocity[3 * c], fields.velocity[3 * c + 1], fields.velocity[3 * c + 2]};
-    if (!std::isfinite(rho) || !finite(u)) {
-      std::ostringstream out;
-      out << "non-finite " << (std::isfinite(rho) ? "velocity" : "density") << " at "
-          << node_name(static_cast<long>(c), fields.shape);
-      return out.str();
-    }
-    if (lowest < 0 || rho < fields.density[lowest]) lowest = static_cast<long>(c);
-    if (highest < 0 || rho > fields.density[highest]) highest = static_cast<long>(c);
-    const double mach = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) / cs;
-    if (mach > worst_mach) {
-      worst_mach = mach;
-      fastest = static_cast<long>(c);
+  double rho_min = 0, rho_max = 0, worst_mach = 0;
+  for (long first = 0; first < cells; first += kBlock) {
+    const long count = std::min(kBlock, cells - first);
+    simulation.fluid_moments_range(first, count, density.data(), velocity.data());
+    for (long k = 0; k < count; ++k) {
+      const long cell = first + k;
+      const double rho = density[k];
+      const fluid::Vec3 u{velocity[3 * k], velocity[3 * k + 1], velocity[3 * k + 2]};
+      if (!std::isfinite(rho) || !finite(u)) {
+        std::ostringstream out;
+        out << "non-finite " << (std::isfinite(rho) ? "velocity" : "density") << " at " << node_name(cell, shape);
+        return out.str();
+      }
+      if (lowest < 0 || rho < rho_min) lowest = cell, rho_min = rho;
+      if (highest < 0 || rho > rho_max) highest = cell, rho_max = rho;
+      const double mach = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) / cs;
+      if (mach > worst_mach) {
+        worst_mach = mach;
+        fastest = cell;
+      }
     }
   }
   if (lowest < 0) return {};
   std::ostringstream out;
-  const double rho_min = fields.density[lowest], rho_max = fields.density[highest];
   if (rho_min <= 0) {
-    out << "density " << rho_min << " (must stay positive) at " << node_name(lowest, fields.shape);
+    out << "density " << rho_min << " (must stay positive) at " << node_name(lowest, shape);
     return out.str();
   }
   const double below = rho_min < low ? low / rho_min : 1.0, above = rho_max > high ? rho_max / high : 1.0;
   if (below > 1.0 || above > 1.0) {
-    const long worst = below >= above ? lowest : highest;
-    out << "density " << fields.density[worst] << " outside [" << low << ", " << high << "] at "
-        << node_name(worst, fields.shape);
+    const bool low_side = below >= above;
+    out << "density " << (low_side ? rho_min : rho_max) << " outside [" << low << ", " << high << "] at "
+        << node_name(low_side ? lowest : highest, shape);
     return out.str();
   }
   if (worst_mach > limits.max_mach) {
-    out << "Mach number " << worst_mach << " (limit " << limits.max_mach << ") at " << node_name(fastest, fields.shape);
+    out << "Mach number " << worst_mach << " (limit " << limits.max_mach << ") at " << node_name(fastest, shape);
     return out.str();
   }
   return {};

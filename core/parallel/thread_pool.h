@@ -11,6 +11,7 @@ namespace lbsolid::parallel {
 
 class ThreadPool {
  public:
+  // Throws std::system_error if a thread cannot start (the ones started are stopped first).
   explicit ThreadPool(int threads);
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;
@@ -23,6 +24,7 @@ class ThreadPool {
 
  private:
   void worker_loop(int index);
+  void stop_and_join();
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <map>
 #include <set>
+#include <unordered_map>
 #include <utility>
 
 #include "coupling/node_locator.h"
@@ -44,6 +45,13 @@ std::string format_position(const solid::Vec3& r, int dimension) {
   return buffer;
 }
 
+// Shortest form of a number for messages ("1.97", not std::to_string's "1.970000").
+std::string number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.3g", v);
+  return buffer;
+}
+
 // Where SolidSystem::add_body places the labels: centroid at spec.centre, `spacing` apart.
 std::vector<solid::Vec3> initial_positions(const solid::BodySpec& spec, const std::vector<solid::Label>& labels) {
   solid::Vec3 centroid{0, 0, 0};
@@ -59,11 +67,17 @@ std::vector<solid::Vec3> initial_positions(const solid::BodySpec& spec, const st
   return positions;
 }
 
-// Every particle of the body must start inside the box, on the fluid's side of every wall.
+// Every particle of the body must start at a finite position inside the box, on the fluid's side
+// of every wall. A finite spacing times a long extent can still overflow to infinity.
 void check_placement(const Scene& scene, const solid::BodySpec& spec, const std::string& prefix,
                      std::vector<std::string>& errors) {
   const int dimension = lattice_dimension(scene.lattice);
   for (const auto& r : initial_positions(spec, solid::body_labels(spec, dimension))) {
+    if (!std::isfinite(r[0]) || !std::isfinite(r[1]) || !std::isfinite(r[2])) {
+      errors.push_back(prefix + ".spacing: " + number(spec.spacing) +
+                       " times the body's extent puts particles at non-finite positions");
+      return;
+    }
     for (int side = 0; side < 2 * dimension; ++side) {
       if (scene.fluid.sides[side].kind == fluid::WallKind::kPeriodic) continue;
       const int axis = side / 2;
@@ -76,13 +90,6 @@ void check_placement(const Scene& scene, const solid::BodySpec& spec, const std:
       }
     }
   }
-}
-
-// Shortest form of a number for messages ("1.97", not std::to_string's "1.970000").
-std::string number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3g", v);
-  return buffer;
 }
 
 double sound_speed(LatticeKind lattice) { return lattice == LatticeKind::kD2Q7 ? 0.5 : std::sqrt(1.0 / 3.0); }
@@ -187,6 +194,45 @@ std::pair<double, int> pairwise_overcorrection(const Scene& scene) {
   return worst;
 }
 
+// A name as messages echo it: at most 64 bytes (cut on a UTF-8 character boundary), so that a
+// list of problems stays short enough for a client to receive.
+std::string echoed_name(const std::string& name) {
+  constexpr std::size_t kMaxEcho = 64;
+  if (name.size() <= kMaxEcho) return name;
+  std::size_t end = kMaxEcho;  // back over at most 3 continuation bytes (10xxxxxx)
+  for (int back = 0; back < 3 && (static_cast<unsigned char>(name[end]) & 0xC0) == 0x80; ++back) --end;
+  return name.substr(0, end) + "...";
+}
+
+// Output (H5MD groups, particle streams) names bodies: each name must be unique. One error per
+// shared name, on its second body, with how many share it; a hash map keeps 10^5 bodies cheap.
+void check_unique_names(const Scene& scene, std::vector<std::string>& errors) {
+  struct Uses {
+    std::size_t first, second = 0, last = 0, count = 1;
+  };
+  std::unordered_map<std::string, Uses> uses(2 * scene.bodies.size());
+  std::vector<const std::pair<const std::string, Uses>*> shared;  // in the order of their second body
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    const auto [it, inserted] = uses.try_emplace(body_name(scene, b), Uses{b});
+    if (inserted) continue;
+    Uses& u = it->second;
+    if (++u.count == 2) {
+      u.second = b;
+      shared.push_back(&*it);  // elements of an unordered_map stay where they are on rehash
+    }
+    u.last = b;
+  }
+  for (const auto* entry : shared) {
+    const Uses& u = entry->second;
+    std::string error = "bodies[" + std::to_string(u.second) + "].name: \"" + echoed_name(entry->first) +
+                        "\" is already the name of bodies[" + std::to_string(u.first) + "]";
+    if (u.count > 2)
+      error += " (" + std::to_string(u.count) + " bodies share this name; the last is bodies[" +
+               std::to_string(u.last) + "])";
+    errors.push_back(std::move(error));
+  }
+}
+
 }  // namespace
 
 double wall_position(const Scene& scene, int side) {
@@ -233,14 +279,7 @@ std::vector<std::string> validate_scene(const Scene& scene) {
   }
   check_monitor(scene.monitor, errors);
   check_speeds(scene, errors);
-  // Output (H5MD groups, particle streams) names bodies: each name must be unique.
-  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
-    for (std::size_t a = 0; a < b; ++a)
-      if (body_name(scene, a) == body_name(scene, b)) {
-        errors.push_back("bodies[" + std::to_string(b) + "].name: \"" + body_name(scene, b) +
-                         "\" is already the name of bodies[" + std::to_string(a) + "]");
-        break;
-      }
+  check_unique_names(scene, errors);
   return errors;
 }
 

@@ -146,16 +146,27 @@ class SimulationImpl final : public Simulation {
     const auto& c = scene_.fluid;
     FluidFields fields;
     fields.shape = {c.nx, c.ny, c.nz};
-    fields.density.reserve(f.cells());
-    fields.velocity.reserve(3 * f.cells());
-    for (int z = 0; z < c.nz; ++z)
-      for (int y = 0; y < c.ny; ++y)
-        for (int x = 0; x < c.nx; ++x) {
-          const auto m = f.moments(x, y, z);
-          fields.density.push_back(m.rho);
-          fields.velocity.insert(fields.velocity.end(), m.u.begin(), m.u.end());
-        }
+    fields.density.resize(f.cells());
+    fields.velocity.resize(3 * f.cells());
+    fluid_moments_range(0, f.cells(), fields.density.data(), fields.velocity.data());
     return fields;
+  }
+
+  void fluid_moments_range(long first, long count, double* density, double* velocity) const override {
+    const auto& f = require_fluid("fluid_moments_range");
+    const auto& c = scene_.fluid;
+    if (first < 0 || count < 0 || count > f.cells() - first)
+      throw std::out_of_range("fluid_moments_range: cells [" + std::to_string(first) + ", +" + std::to_string(count) +
+                              ") outside the " + std::to_string(f.cells()) + " nodes");
+    const long plane = static_cast<long>(c.nx) * c.ny;
+    for (long k = 0; k < count; ++k) {
+      const long cell = first + k;
+      const auto m = f.moments(static_cast<int>(cell % c.nx), static_cast<int>((cell / c.nx) % c.ny),
+                               static_cast<int>(cell / plane));
+      if (density) density[k] = m.rho;
+      if (velocity)
+        for (int a = 0; a < 3; ++a) velocity[3 * k + a] = m.u[a];
+    }
   }
 
   SimulationState save_state() const override {
@@ -254,8 +265,13 @@ BodyState Simulation::body_state(int body) const {
 }
 
 Vec3 Simulation::particle_velocity(int p) const {
-  const Vec3 psi = solid()->momentum(p);
-  const double m = solid()->mass(p);
+  const auto* s = solid();
+  if (!s) throw std::logic_error("particle_velocity: the scene has no bodies");
+  if (p < 0 || p >= s->particle_count())
+    throw std::out_of_range("particle_velocity: no particle " + std::to_string(p) + " (the scene has " +
+                            std::to_string(s->particle_count()) + ")");
+  const Vec3 psi = s->momentum(p);
+  const double m = s->mass(p);
   return {psi[0] / m, psi[1] / m, psi[2] / m};
 }
 

@@ -86,6 +86,10 @@ class Simulation {
   // Per particle: u_s = Psi / M.
   Vec3 particle_velocity(int p) const;
   virtual FluidFields fluid_fields() const = 0;  // requires a fluid
+  // Density and velocity of `count` nodes from node `first` on, in fluid_fields()' order, into
+  // density[count] and velocity[3 count] (either may be null): a part of the fields without a
+  // copy of the whole (std::out_of_range outside the grid).
+  virtual void fluid_moments_range(long first, long count, double* density, double* velocity) const = 0;
 
   virtual SimulationState save_state() const = 0;
   // Throws std::invalid_argument naming what does not match this simulation's scene.

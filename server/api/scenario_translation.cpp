@@ -4,7 +4,10 @@
 //   2. run the core's validate_scene on the translation (the one source of the physics rules);
 //   3. rewrite each core "<field>: reason" as "scenario.<path>: reason", dropping those that
 //      restate a problem pass 1 already reported on the same field.
-// Every problem is kept: a client fixes a scenario in one round trip, not one per error.
+// Every problem is kept: a client fixes a scenario in one round trip, not one per error
+// (error_summary.h says how many of them it is sent). Every pass is linear or n log n in the
+// number of bodies and problems (hash sets, never a pass over the others per item): 10^5 bodies
+// once took minutes. tests/bench/translation_bench.cpp measures it.
 #include "server/api/scenario_translation.h"
 
 #include <google/protobuf/io/tokenizer.h>
@@ -15,6 +18,8 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <string_view>
+#include <unordered_set>
 
 #include "server/api/core_field_paths.h"
 #include "server/api/enum_mapping.h"
@@ -33,6 +38,10 @@ constexpr double kMaxBodyParticles = 16777216.0;  // 2^24 labels per body: valid
 constexpr int kMaxLabelComponent = 1 << 30;       // the core adds +-1 to label components
 // Each fluid thread is an OS thread started when the simulation is built; the core checks only >= 1.
 constexpr int kMaxThreads = 256;
+// Names are labels a person reads (logs, session lists, a terminal) and keys of output (H5MD groups,
+// streams): 256 bytes is ample for either, and with 20 problems in a summary (error_summary.h),
+// each echoing at most 64 bytes of a name, keeps what a client is sent small.
+constexpr std::size_t kMaxNameBytes = 256;
 
 struct Problem {
   std::string path;  // "scenario.fluid.omega"
@@ -68,6 +77,39 @@ Core enum_or_report(std::optional<Core> mapped, Proto value, const pb::EnumDescr
   if (mapped) return *mapped;
   problems.push_back({path, unknown_enum(type, value)});
   return static_cast<Core>(value);
+}
+
+// ---- Names.
+
+// The first character in `name` that breaks a line or controls a terminal: an ASCII control
+// character or DEL, a C1 control (U+0080-U+009F, 0xC2 0x80-0x9F in UTF-8; protobuf has checked
+// that a string field is UTF-8), or U+2028/U+2029. Described with its byte offset; empty if none.
+std::string control_character(const std::string& name) {
+  const auto byte = [&](std::size_t k) { return k < name.size() ? static_cast<unsigned char>(name[k]) : 0; };
+  char text[64];
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    unsigned code_point = 0;
+    if (byte(i) < 0x20 || byte(i) == 0x7F)
+      code_point = byte(i);
+    else if (byte(i) == 0xC2 && byte(i + 1) >= 0x80 && byte(i + 1) <= 0x9F)
+      code_point = byte(i + 1);
+    else if (byte(i) == 0xE2 && byte(i + 1) == 0x80 && (byte(i + 2) == 0xA8 || byte(i + 2) == 0xA9))
+      code_point = 0x2000 + byte(i + 2) - 0x80;
+    else
+      continue;
+    std::snprintf(text, sizeof text, "U+%04X at byte %zu", code_point, i);
+    return text;
+  }
+  return "";
+}
+
+// A name is one line of at most kMaxNameBytes.
+void check_name(const std::string& name, const std::string& path, Problems& problems) {
+  if (name.size() > kMaxNameBytes)
+    problems.push_back({path, std::to_string(name.size()) + " bytes, more than the limit of " +
+                                  std::to_string(kMaxNameBytes)});
+  if (const std::string found = control_character(name); !found.empty())
+    problems.push_back({path, "a name is one line of printable text; it holds the control character " + found});
 }
 
 // ---- Message fields. `dimension` is 2 or 3, or 0 when the lattice is unknown (then nothing that
@@ -251,6 +293,7 @@ TranslatedBody translate_body(const v1::Body& in, int index, int dimension, Prob
   TranslatedBody out;
   solid::BodySpec& spec = out.spec;
   spec.name = in.name().empty() ? "body" + std::to_string(index) : in.name();
+  check_name(in.name(), path + ".name", problems);
   spec.spacing = in.has_spacing() ? in.spacing() : 1.0;
   spec.centre = vec(in.centre(), dimension);
   spec.velocity = vec(in.velocity(), dimension);
@@ -322,20 +365,35 @@ Problem from_core(const std::string& message, const std::vector<int>& original) 
   return {*path, message.substr(colon + 2)};
 }
 
-// `inner` lies below `outer`: "scenario.domain.nx" below "scenario.domain".
-bool below(const std::string& inner, const std::string& outer) {
-  return inner.size() > outer.size() && inner.starts_with(outer) &&
-         (inner[outer.size()] == '.' || inner[outer.size()] == '[');
-}
+// Whether `path` continues below its first `size` characters ("scenario.domain" in
+// "scenario.domain.nx", "scenario.bodies" in "scenario.bodies[3]").
+bool field_ends_at(const std::string& path, std::size_t size) { return path[size] == '.' || path[size] == '['; }
 
 // The core restates a message-level problem when it names the same field, a field that contains
 // it (its "bodies: a scene without fluid needs a body" when a listed body could not be checked),
-// or a field a covering problem stands for.
-bool restates(const Problem& core, const Problems& message_level) {
-  return std::any_of(message_level.begin(), message_level.end(), [&](const Problem& p) {
-    return core.path == p.path || below(p.path, core.path) || (p.covers_subfields && below(core.path, p.path));
-  });
-}
+// or a field a covering problem stands for. The message-level paths are hashed with every field
+// that contains them, so each core problem costs a few look-ups, not a pass over the others.
+class Restatements {
+ public:
+  explicit Restatements(const Problems& message_level) {
+    for (const Problem& p : message_level) {
+      reported_or_containing_.insert(p.path);
+      for (std::size_t size = 1; size < p.path.size(); ++size)
+        if (field_ends_at(p.path, size)) reported_or_containing_.insert(p.path.substr(0, size));
+      if (p.covers_subfields) covering_.insert(p.path);
+    }
+  }
+
+  bool restated(const Problem& core) const {
+    if (reported_or_containing_.count(core.path)) return true;
+    for (std::size_t size = 1; size < core.path.size(); ++size)
+      if (field_ends_at(core.path, size) && covering_.count(core.path.substr(0, size))) return true;
+    return false;
+  }
+
+ private:
+  std::unordered_set<std::string> reported_or_containing_, covering_;
+};
 
 // The copy the core checks: only the bodies it can list, and no arithmetic it would overflow.
 scene::Scene checkable_copy(const scene::Scene& scene, const std::vector<bool>& core_can_check,
@@ -364,10 +422,10 @@ scene::Scene checkable_copy(const scene::Scene& scene, const std::vector<bool>& 
 void add_core_problems(const scene::Scene& scene, const std::vector<bool>& core_can_check, Problems& problems) {
   std::vector<int> original;
   const scene::Scene copy = checkable_copy(scene, core_can_check, original);
-  const Problems message_level = problems;
+  const Restatements message_level(problems);
   for (const std::string& message : scene::validate_scene(copy)) {
     Problem problem = from_core(message, original);
-    if (!restates(problem, message_level)) problems.push_back(std::move(problem));
+    if (!message_level.restated(problem)) problems.push_back(std::move(problem));
   }
 }
 
@@ -421,6 +479,7 @@ bool parse_json(const std::string& text, v1::Scenario* scenario, std::string* er
 TranslatedScenario translate_scenario(const lbsolid::v1::Scenario& in) {
   TranslatedScenario out;
   Problems problems;
+  check_name(in.name(), "scenario.name", problems);
   const std::optional<scene::LatticeKind> lattice = lattice_of(in.lattice());
   out.scene.lattice = enum_or_report(lattice, in.lattice(), v1::Lattice_descriptor(), "scenario.lattice", problems);
   const int dimension = lattice ? scene::lattice_dimension(*lattice) : 0;
@@ -438,11 +497,15 @@ TranslatedScenario translate_scenario(const lbsolid::v1::Scenario& in) {
   out.scene.monitor = translate_stability(in.stability(), problems);
   // With no lattice the core checks nothing but the lattice, which is already reported.
   if (lattice) add_core_problems(out.scene, core_can_check, problems);
+  // The core repeats a message once per offending axis ("size: every extent must be at least 1").
+  // The views point into out.errors, which the reserve keeps from moving.
+  out.errors.reserve(problems.size());
+  std::unordered_set<std::string_view> seen(2 * problems.size());
   for (const Problem& p : problems) {
-    // The core repeats a message once per offending axis ("size: every extent must be at least 1").
     std::string text = p.path + ": " + p.reason;
-    if (std::find(out.errors.begin(), out.errors.end(), text) == out.errors.end())
-      out.errors.push_back(std::move(text));
+    if (seen.count(text)) continue;
+    out.errors.push_back(std::move(text));
+    seen.insert(out.errors.back());
   }
   // Parameters near the edge of stability, on their proto paths; only for a scene that can run.
   if (out.errors.empty()) {

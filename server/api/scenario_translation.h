@@ -10,12 +10,15 @@
 
 #include "lbsolid/v1/scenario.pb.h"
 #include "scene/scene.h"
+#include "server/api/error_summary.h"
 
 namespace lbsolid::server {
 
 struct TranslatedScenario {
   scene::Scene scene;
-  std::vector<std::string> errors;    // empty when the scene can be built
+  // Every problem, empty when the scene can be built; a client is sent error_summary(errors)
+  // (server/api/error_summary.h), which fits in a gRPC status however many there are.
+  std::vector<std::string> errors;
   std::vector<std::string> warnings;  // parameters near the edge of stability, "<path>: <reason>"
   bool ok() const { return errors.empty(); }
 };

@@ -1,22 +1,31 @@
 // lbsolidd: the lbsolid simulation daemon. Serves lbsolid.v1.Simulation, the standard gRPC health
-// service and server reflection on --listen; keeps sessions on --workers threads. SIGTERM (or
-// SIGINT) pauses and checkpoints every session under --data_dir, then exits 0; the next start
-// brings those sessions back PAUSED under their old ids.
+// service and server reflection on --listen; keeps sessions on --workers threads and saves them
+// under --data_dir every --autosave_interval. SIGTERM (or SIGINT) stops taking calls, pauses and
+// saves every session, then exits 0 (1 if a session could not be saved); the next start brings
+// them back under their old ids (those that were running PAUSED).
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
 #include <spdlog/spdlog.h>
 
+#include <unistd.h>
+
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <thread>
 
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
 #include "absl/flags/usage.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "absl/time/time.h"
 #include "server/service/simulation_service.h"
 #include "server/session/session_manager.h"
+#include "server/storage/file_replace.h"
 #include "server/version.h"
 
 ABSL_FLAG(std::string, listen, "127.0.0.1:50051", "address to serve on; port 0 picks a free port");
@@ -26,20 +35,45 @@ ABSL_FLAG(int, workers, static_cast<int>(std::max(1u, std::thread::hardware_conc
 ABSL_FLAG(int, max_sessions, 64, "sessions held at most");
 ABSL_FLAG(int64_t, max_cells, int64_t{1} << 26, "fluid nodes per session at most");
 ABSL_FLAG(int64_t, max_sync_steps, 10000, "largest Step request");
+ABSL_FLAG(int64_t, max_memory, 0,
+          "bytes all sessions together may take, by the estimate made before each is built; 0: 3/4 of physical memory");
+ABSL_FLAG(int64_t, max_particles, int64_t{1} << 24, "solid particles of all sessions together");
+ABSL_FLAG(int, max_fluid_threads, static_cast<int>(4 * std::max(1u, std::thread::hardware_concurrency())),
+          "fluid kernel threads (scenario.fluid.threads - 1 per session) of all sessions together");
+ABSL_FLAG(absl::Duration, autosave_interval, absl::Minutes(2),
+          "wall time between automatic saves of every session that changed (a crash loses at most this); 0 "
+          "turns them off");
+ABSL_FLAG(int, max_call_threads, 256, "threads serving calls at once; further calls get RESOURCE_EXHAUSTED");
+ABSL_FLAG(absl::Duration, max_connection_idle, absl::Minutes(5), "a connection without calls this long is closed");
 ABSL_FLAG(std::string, port_file, "", "if set, the port actually bound is written there (for tests and scripts)");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn or error");
 
 namespace {
 
 constexpr int kMaxMessageBytes = 4 << 20;
+// Calls in flight at SIGTERM get this long to finish before they are cancelled.
+constexpr auto kShutdownGrace = std::chrono::seconds(2);
+constexpr int kMaxStreamsPerConnection = 100;
 
-void write_port_file(const std::string& path, int port) {
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary);
-    out << port << "\n";
-  }
-  std::filesystem::rename(temporary, path);  // readers never see a half-written number
+// What one client can hold of the daemon: streams per connection, threads for calls in flight
+// (the synchronous server runs each call on a thread; past the cap calls get RESOURCE_EXHAUSTED),
+// connections that sit idle (closed after --max_connection_idle), dead peers (keepalive pings).
+void apply_connection_limits(grpc::ServerBuilder& builder) {
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONCURRENT_STREAMS, kMaxStreamsPerConnection);
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_IDLE_MS,
+                             static_cast<int>(absl::ToInt64Milliseconds(absl::GetFlag(FLAGS_max_connection_idle))));
+  // A connection takes no new calls after an hour; the streams on it may go on (an infinite grace).
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_AGE_MS, 60 * 60 * 1000);
+  builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_AGE_GRACE_MS, std::numeric_limits<int>::max());
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, 60 * 1000);
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 20 * 1000);
+  grpc::ResourceQuota quota("lbsolidd");
+  quota.SetMaxThreads(absl::GetFlag(FLAGS_max_call_threads));
+  builder.SetResourceQuota(quota);
+}
+
+long long physical_memory_bytes() {
+  return static_cast<long long>(sysconf(_SC_PHYS_PAGES)) * static_cast<long long>(sysconf(_SC_PAGE_SIZE));
 }
 
 int fail_start(const std::string& message) {
@@ -60,7 +94,20 @@ int main(int argc, char** argv) {
   limits.max_sessions = absl::GetFlag(FLAGS_max_sessions);
   limits.max_cells = absl::GetFlag(FLAGS_max_cells);
   limits.max_sync_steps = absl::GetFlag(FLAGS_max_sync_steps);
+  limits.max_memory_bytes = absl::GetFlag(FLAGS_max_memory);
+  if (limits.max_memory_bytes == 0) limits.max_memory_bytes = physical_memory_bytes() / 4 * 3;
+  limits.max_particles = absl::GetFlag(FLAGS_max_particles);
+  limits.max_fluid_threads = absl::GetFlag(FLAGS_max_fluid_threads);
+  if (limits.max_memory_bytes < 0) return fail_start("--max_memory: must not be negative");
+  if (limits.max_particles < 0) return fail_start("--max_particles: must not be negative");
+  if (limits.max_fluid_threads < 0) return fail_start("--max_fluid_threads: must not be negative");
+  const absl::Duration autosave = absl::GetFlag(FLAGS_autosave_interval);
+  if (autosave < absl::ZeroDuration()) return fail_start("--autosave_interval: must not be negative");
+  limits.autosave_interval = absl::ToChronoMilliseconds(autosave);
   if (limits.workers < 1) return fail_start("--workers: must be at least 1");
+  if (absl::GetFlag(FLAGS_max_call_threads) < 8) return fail_start("--max_call_threads: must be at least 8");
+  if (absl::GetFlag(FLAGS_max_connection_idle) < absl::Seconds(1))
+    return fail_start("--max_connection_idle: must be at least 1s");
   if (limits.max_sessions < 1) return fail_start("--max_sessions: must be at least 1");
   if (limits.max_cells < 1) return fail_start("--max_cells: must be at least 1");
 
@@ -89,22 +136,44 @@ int main(int argc, char** argv) {
   builder.AddListeningPort(absl::GetFlag(FLAGS_listen), grpc::InsecureServerCredentials(), &port);
   builder.SetMaxReceiveMessageSize(kMaxMessageBytes);
   builder.SetMaxSendMessageSize(kMaxMessageBytes);
+  apply_connection_limits(builder);
   builder.RegisterService(&service);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || port == 0) return fail_start("--listen: cannot serve on " + absl::GetFlag(FLAGS_listen));
   server->GetHealthCheckService()->SetServingStatus(true);
-  if (!absl::GetFlag(FLAGS_port_file).empty()) write_port_file(absl::GetFlag(FLAGS_port_file), port);
-  spdlog::info("lbsolidd {} ({}) serving lbsolid.v1 on {} (port {}), {} workers, data in {}, {} sessions recovered",
-               LBSOLID_VERSION, LBSOLID_GIT_REVISION, absl::GetFlag(FLAGS_listen), port, limits.workers,
-               absl::GetFlag(FLAGS_data_dir), recovered);
+  if (!absl::GetFlag(FLAGS_port_file).empty()) {
+    try {  // readers never see a half-written number
+      lbsolid::server::storage::write_text_file_replacing(absl::GetFlag(FLAGS_port_file), absl::StrCat(port, "\n"));
+    } catch (const std::exception& e) {
+      return fail_start(std::string("--port_file: ") + e.what());
+    }
+  }
+  spdlog::info(
+      "lbsolidd {} ({}) serving lbsolid.v1 on {} (port {}), {} workers, data in {}, {} sessions recovered; limits: "
+      "{} MiB, {} particles, {} fluid threads; autosave every {}",
+      LBSOLID_VERSION, LBSOLID_GIT_REVISION, absl::GetFlag(FLAGS_listen), port, limits.workers,
+      absl::GetFlag(FLAGS_data_dir), recovered, limits.max_memory_bytes >> 20, limits.max_particles,
+      limits.max_fluid_threads, absl::FormatDuration(autosave));
 
   int signal = 0;
   sigwait(&signals, &signal);
-  spdlog::info("{}: pausing and checkpointing every session", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+  spdlog::info("{}: no new calls; pausing and saving every session", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+  // Runs stop where SIGTERM found them; then no more calls (new ones get UNAVAILABLE; those in
+  // flight finish, or are cancelled after the grace period), so that nothing is answered OK after
+  // its session was saved; then the saves.
   server->GetHealthCheckService()->SetServingStatus(false);
-  manager->shutdown();
-  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
+  manager->pause_all();
+  server->Shutdown(std::chrono::system_clock::now() + kShutdownGrace);
+  const auto unsaved = manager->shutdown();
   manager.reset();
-  spdlog::info("lbsolidd stopped");
-  return 0;
+  if (unsaved.empty())
+    spdlog::info("lbsolidd stopped; every session saved");
+  else
+    spdlog::critical("lbsolidd stopped; {} session(s) NOT saved (see above): {}", unsaved.size(),
+                     absl::StrJoin(unsaved, ", "));
+  // Everything is on disk and logged: leave without the libraries' exit handlers, because HDF5
+  // 1.10.8 crashes in them (H5F__close_cb) after a write failed for lack of space, which would
+  // turn an honest exit code into a segfault.
+  spdlog::shutdown();
+  std::_Exit(unsaved.empty() ? 0 : 1);
 }

@@ -2,11 +2,14 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <bit>
 #include <chrono>
 #include <cstring>
 
 #include "absl/strings/str_cat.h"
+#include "server/api/error_summary.h"
+#include "server/api/log_text.h"
 
 namespace lbsolid::server {
 
@@ -17,10 +20,18 @@ using std::chrono::milliseconds;
 constexpr long kDefaultChunkBytes = 1L << 20;
 constexpr long kMinChunkBytes = 1L << 10;
 constexpr long kMaxChunkBytes = 3L << 20;  // leaves room under the 4 MiB message limit
+constexpr double kMinProgressInterval = 0.05;  // seconds
+constexpr double kMaxProgressInterval = 3600;  // an hour: past it, the milliseconds could overflow
 
+// A status message travels as a header, which clients refuse past their metadata limit (8 KiB by
+// default) as RESOURCE_EXHAUSTED, a code they retry: every message is cut to kMaxSummaryBytes
+// (error_summary.h), whatever produced it.
 grpc::Status to_grpc(const absl::Status& status) {
   if (status.ok()) return grpc::Status::OK;
-  return grpc::Status(static_cast<grpc::StatusCode>(status.code()), std::string(status.message()));
+  const std::string message(status.message());
+  std::string text = message.substr(0, utf8_prefix_size(message, kMaxSummaryBytes - 32));
+  if (text.size() < message.size()) text += absl::StrCat("... (", message.size(), " bytes)");
+  return grpc::Status(static_cast<grpc::StatusCode>(status.code()), text);
 }
 
 grpc::Status invalid(const std::string& message) { return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, message); }
@@ -60,7 +71,7 @@ grpc::Status SimulationService::CreateSession(grpc::ServerContext*, const v1::Cr
   if (!request->has_scenario()) return invalid("scenario: required");
   auto session = manager_.create(request->scenario(), request->request_id());
   if (!session.ok()) {
-    spdlog::warn("CreateSession refused: {}", std::string(session.status().message()));
+    spdlog::warn("CreateSession refused: {}", log_text(std::string(session.status().message()), 1000));
     return to_grpc(session.status());
   }
   *response = (*session)->describe();
@@ -78,7 +89,14 @@ grpc::Status SimulationService::GetSession(grpc::ServerContext*, const v1::GetSe
 
 grpc::Status SimulationService::ListSessions(grpc::ServerContext*, const v1::ListSessionsRequest*,
                                              v1::ListSessionsResponse* response) {
-  for (const auto& session : manager_.list()) *response->add_sessions() = session->describe();
+  std::vector<v1::Session> sessions;
+  for (const auto& session : manager_.list()) {
+    sessions.push_back(session->describe());
+    sessions.back().clear_scenario();
+  }
+  std::stable_sort(sessions.begin(), sessions.end(),
+                   [](const auto& a, const auto& b) { return a.created_unix_ms() < b.created_unix_ms(); });
+  for (auto& session : sessions) *response->add_sessions() = std::move(session);
   return grpc::Status::OK;
 }
 
@@ -106,10 +124,17 @@ grpc::Status SimulationService::Step(grpc::ServerContext* context, const v1::Ste
     return invalid(absl::StrCat("steps: must lie in [1, ", most, "] for Step (use Run for more), got ", request->steps()));
   auto session = manager_.find(request->session_id());
   if (!session.ok()) return to_grpc(session.status());
-  auto result = (*session)->step_now(request->steps(), context->deadline());
+  auto result =
+      (*session)->step_now(request->steps(), context->deadline(), [context] { return context->IsCancelled(); });
   if (!result.ok()) return to_grpc(result.status());
+  manager_.settle(**session);  // it may have failed, or been cancelled meanwhile
+  if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "the call was cancelled");
+  if (!manager_.find(request->session_id()).ok())
+    return grpc::Status(grpc::StatusCode::NOT_FOUND,
+                        absl::StrCat("session_id: session ", request->session_id(), " was deleted during the Step"));
   response->set_steps_taken(result->steps_taken);
   response->set_deadline_reached(result->deadline_reached);
+  response->set_interrupted(result->interrupted);
   *response->mutable_session() = (*session)->describe();
   return grpc::Status::OK;
 }
@@ -125,7 +150,9 @@ grpc::Status SimulationService::Resume(grpc::ServerContext*, const v1::ResumeReq
 }
 
 grpc::Status SimulationService::Cancel(grpc::ServerContext*, const v1::CancelRequest* request, v1::Session* response) {
-  return change_state(request->session_id(), &Session::cancel, response);
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  if (auto status = manager_.cancel(request->session_id()); !status.ok()) return to_grpc(status);
+  return change_state(request->session_id(), nullptr, response);
 }
 
 grpc::Status SimulationService::change_state(const std::string& id, absl::Status (Session::*change)(),
@@ -144,8 +171,9 @@ grpc::Status SimulationService::WatchSession(grpc::ServerContext* context, const
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   double interval = request->progress_interval_s();
   if (interval == 0) interval = 1.0;
-  if (!(interval >= 0.05))
-    return invalid(absl::StrCat("progress_interval_s: must be at least 0.05, got ", request->progress_interval_s()));
+  if (!(interval >= kMinProgressInterval && interval <= kMaxProgressInterval))
+    return invalid(absl::StrCat("progress_interval_s: must lie in [", kMinProgressInterval, ", ", kMaxProgressInterval,
+                                "] seconds, got ", request->progress_interval_s()));
   auto session = manager_.find(request->session_id());
   if (!session.ok()) return to_grpc(session.status());
   auto channel = (*session)->watch_events(milliseconds(static_cast<long>(interval * 1000)));
@@ -198,8 +226,9 @@ grpc::Status SimulationService::GetField(grpc::ServerContext* context, const v1:
       return invalid(absl::StrCat("fields[", k, "]: unknown field \"", names[k], "\"; use density or velocity"));
   auto session = manager_.find(request->session_id());
   if (!session.ok()) return to_grpc(session.status());
-  auto data = (*session)->fields();
-  if (!data.ok()) return to_grpc(data.status());
+  auto snapshot = (*session)->fields();
+  if (!snapshot.ok()) return to_grpc(snapshot.status());
+  const std::shared_ptr<const FieldData> data = *std::move(snapshot);
   const auto& shape = data->fields.shape;
   for (const auto& name : names) {
     const bool vector = name == "velocity";

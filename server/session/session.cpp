@@ -10,6 +10,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "scene/instability_error.h"
+#include "server/api/log_text.h"
 
 namespace lbsolid::server {
 
@@ -37,6 +38,11 @@ absl::Status wrong_state(const std::string& what, v1::SessionState state) {
       absl::StrCat(what, ": not allowed while the session is ", v1::SessionState_Name(state)));
 }
 
+absl::Status step_in_progress(const std::string& what) {
+  return absl::FailedPreconditionError(
+      absl::StrCat(what, ": a Step call is advancing the session; wait for it to return, or Cancel"));
+}
+
 }  // namespace
 
 bool is_final(v1::SessionState state) {
@@ -49,9 +55,17 @@ Session::Session(SessionSetup setup)
       scenario_(std::move(setup.scenario)),
       created_unix_ms_(setup.created_unix_ms),
       warnings_(setup.translated.warnings),
-      sim_(scene::build_simulation(setup.translated.scene)) {}
+      sim_(scene::build_simulation(setup.translated.scene)) {
+  refresh_sizes();
+}
 
 Session::~Session() = default;
+
+void Session::refresh_sizes() {
+  particles_ = sim_->solid() ? sim_->solid()->particle_count() : 0;
+  fluid_bytes_ = static_cast<long long>(sim_->fluid_bytes());
+  solid_bytes_ = static_cast<long long>(sim_->solid_bytes());
+}
 
 long Session::cells() const {
   const auto& f = sim_->scene().fluid;
@@ -71,10 +85,11 @@ v1::Session Session::describe() const {
   *s.mutable_scenario() = scenario_;
   for (const auto& stage : sim_->stages()) s.add_stages(stage);  // fixed at build: no lock needed
   s.set_cells(cells());
-  s.set_particles(sim_->solid() ? sim_->solid()->particle_count() : 0);
-  s.set_fluid_bytes(static_cast<long long>(sim_->fluid_bytes()));
-  s.set_solid_bytes(static_cast<long long>(sim_->solid_bytes()));
+  s.set_particles(particles_);
+  s.set_fluid_bytes(fluid_bytes_);
+  s.set_solid_bytes(solid_bytes_);
   s.set_created_unix_ms(created_unix_ms_);
+  s.set_steps_lost(steps_lost_);
   for (const auto& warning : warnings_) s.add_warnings(warning);
   std::lock_guard lock(mutex_);
   s.set_state(state_);
@@ -94,6 +109,7 @@ absl::Status Session::run(long steps) {
   std::lock_guard lock(mutex_);
   if (closed_) return absl::NotFoundError(absl::StrCat("session_id: session ", id_, " was deleted"));
   if (state_ == v1::SESSION_STATE_RUNNING || is_final(state_)) return wrong_state("Run", state_);
+  if (stepping_) return step_in_progress("Run");
   if (steps > std::numeric_limits<long>::max() - step_)
     return absl::InvalidArgumentError(absl::StrCat("steps: ", steps, " more steps from step ", step_.load(),
                                                    " would pass the largest step number"));
@@ -103,23 +119,35 @@ absl::Status Session::run(long steps) {
 }
 
 absl::Status Session::pause() {
-  std::lock_guard lock(mutex_);
-  if (state_ != v1::SESSION_STATE_RUNNING) return wrong_state("Pause", state_);
-  set_state_locked(v1::SESSION_STATE_PAUSED);
-  return absl::OkStatus();
+  return stop_at_step_boundary("Pause", v1::SESSION_STATE_PAUSED,
+                               [](v1::SessionState s) { return s == v1::SESSION_STATE_RUNNING; });
 }
 
 absl::Status Session::resume() {
   std::lock_guard lock(mutex_);
   if (state_ != v1::SESSION_STATE_PAUSED) return wrong_state("Resume", state_);
+  if (stepping_) return step_in_progress("Resume");
   set_state_locked(step_ >= target_ ? v1::SESSION_STATE_DONE : v1::SESSION_STATE_RUNNING);
   return absl::OkStatus();
 }
 
 absl::Status Session::cancel() {
+  return stop_at_step_boundary("Cancel", v1::SESSION_STATE_CANCELLED,
+                               [](v1::SessionState s) { return !is_final(s); });
+}
+
+absl::Status Session::stop_at_step_boundary(const char* what, v1::SessionState next,
+                                            bool (*allowed)(v1::SessionState)) {
+  {
+    std::lock_guard lock(mutex_);  // refuse at once, without waiting for the step in flight
+    if (!allowed(state_)) return wrong_state(what, state_);
+  }
+  ++stop_requests_;  // a Step call lets go at its next step boundary; a worker ends its slice
+  const auto sim_lock = lock_simulation();
+  --stop_requests_;
   std::lock_guard lock(mutex_);
-  if (is_final(state_)) return wrong_state("Cancel", state_);
-  set_state_locked(v1::SESSION_STATE_CANCELLED);
+  if (!allowed(state_)) return wrong_state(what, state_);  // it changed meanwhile (DONE, FAILED)
+  set_state_locked(next);
   return absl::OkStatus();
 }
 
@@ -128,7 +156,7 @@ void Session::set_state_locked(v1::SessionState next, const std::string& message
   state_ = next;
   message_ = message;
   spdlog::info("session {}: {} -> {} at step {}{}{}", id_, v1::SessionState_Name(previous), v1::SessionState_Name(next),
-               step_.load(), message.empty() ? "" : ": ", message);
+               step_.load(), message.empty() ? "" : ": ", message.empty() ? "" : log_text(message, 500));
   v1::SessionEvent event;
   event.mutable_state_changed()->set_from(previous);
   event.mutable_state_changed()->set_to(next);
@@ -154,18 +182,10 @@ void Session::close_streams_locked() {
 }
 
 void Session::close() {
-  std::lock_guard lock(mutex_);
+  std::lock_guard lock(mutex_);  // a Step call sees closed_ at its next step boundary
   closed_ = true;
   if (state_ == v1::SESSION_STATE_RUNNING) set_state_locked(v1::SESSION_STATE_CANCELLED);
   close_streams_locked();
-}
-
-void Session::pause_and_settle() {
-  {
-    std::lock_guard lock(mutex_);
-    if (state_ == v1::SESSION_STATE_RUNNING) set_state_locked(v1::SESSION_STATE_PAUSED);
-  }
-  const auto wait_for_slice = lock_simulation();  // a slice in progress ends at the next step
 }
 
 void Session::fail(long step, const std::string& cause) {
@@ -211,6 +231,7 @@ bool Session::step_once() {
     return false;
   }
   step_ = sim_->step_count();
+  refresh_sizes();
   if (has_frame_watchers_) publish_frames(step_);
   return true;
 }
@@ -244,21 +265,32 @@ void Session::advance(std::chrono::milliseconds slice) {
   emit_progress();
 }
 
-absl::StatusOr<StepResult> Session::step_now(long steps, std::chrono::system_clock::time_point deadline) {
+absl::StatusOr<StepResult> Session::step_now(long steps, std::chrono::system_clock::time_point deadline,
+                                             const std::function<bool()>& abandoned) {
+  const auto refused = [&]() -> absl::Status {
+    if (closed_) return absl::NotFoundError(absl::StrCat("session_id: session ", id_, " was deleted"));
+    if (state_ == v1::SESSION_STATE_RUNNING || is_final(state_)) return wrong_state("Step", state_);
+    return absl::OkStatus();
+  };
   {
     std::lock_guard lock(mutex_);  // refuse at once, without waiting for the worker's slice
-    if (state_ == v1::SESSION_STATE_RUNNING || is_final(state_)) return wrong_state("Step", state_);
+    if (auto status = refused(); !status.ok()) return status;
   }
   const auto sim_lock = lock_simulation();
   {
     std::lock_guard lock(mutex_);
-    if (state_ == v1::SESSION_STATE_RUNNING || is_final(state_)) return wrong_state("Step", state_);
+    if (auto status = refused(); !status.ok()) return status;
+    stepping_ = true;  // Run and Resume are refused until this call returns
   }
   StepResult result;
   auto longest_step = std::chrono::system_clock::duration::zero();
   // Room for the answer to reach the client before its deadline, on a loaded machine too.
   const auto margin = std::chrono::milliseconds(50);
   while (result.steps_taken < steps) {
+    if (step_call_must_stop(abandoned)) {
+      result.interrupted = true;
+      break;
+    }
     const auto before = std::chrono::system_clock::now();
     if (before + 2 * longest_step + margin > deadline) {
       result.deadline_reached = true;
@@ -269,11 +301,25 @@ absl::StatusOr<StepResult> Session::step_now(long steps, std::chrono::system_clo
     longest_step = std::max(longest_step, std::chrono::system_clock::now() - before);
   }
   std::lock_guard lock(mutex_);
+  stepping_ = false;
   if (!is_final(state_) && result.steps_taken > 0) {
     target_ = std::max(target_, static_cast<long>(step_));
     if (state_ != v1::SESSION_STATE_PAUSED) set_state_locked(v1::SESSION_STATE_PAUSED);
   }
   return result;
+}
+
+bool Session::step_call_must_stop(const std::function<bool()>& abandoned) const {
+  if (stop_requests_ > 0 || abandoned()) return true;
+  std::lock_guard lock(mutex_);
+  return closed_ || is_final(state_);
+}
+
+bool Session::progress_note_due() {
+  const auto now = Clock::now().time_since_epoch().count();
+  auto last = progress_noted_.load();
+  const auto interval = std::chrono::duration_cast<Clock::duration>(kProgressNoteInterval).count();
+  return now - last >= interval && progress_noted_.compare_exchange_strong(last, now);
 }
 
 void Session::record_rate(long steps, Clock::duration elapsed) {
@@ -449,14 +495,24 @@ absl::StatusOr<std::shared_ptr<FrameChannel<v1::ParticleFrame>>> Session::watch_
   return channel;
 }
 
-absl::StatusOr<FieldData> Session::fields() const {
+absl::StatusOr<std::shared_ptr<const FieldData>> Session::fields() const {
   if (!sim_->has_fluid()) return absl::FailedPreconditionError("GetField: the scenario has no fluid");
-  const auto sim_lock = lock_simulation();
-  FieldData data;
-  data.step = sim_->step_count();
-  data.fields = sim_->fluid_fields();
-  data.spacing = {1.0, row_spacing(sim_->scene().lattice), 1.0};
-  return data;
+  std::lock_guard snapshots_lock(snapshots_mutex_);
+  std::erase_if(snapshots_, [](const auto& s) { return s.expired(); });
+  for (const auto& weak : snapshots_)
+    if (auto shared = weak.lock(); shared && shared->step == step_) return shared;
+  if (static_cast<int>(snapshots_.size()) >= kFieldSnapshots)
+    return absl::ResourceExhaustedError(absl::StrCat("GetField: ", kFieldSnapshots, " reads of session ", id_,
+                                                     " at earlier steps are still in flight; retry when one ends"));
+  auto data = std::make_shared<FieldData>();
+  {
+    const auto sim_lock = lock_simulation();
+    data->step = sim_->step_count();
+    data->fields = sim_->fluid_fields();
+  }
+  data->spacing = {1.0, row_spacing(sim_->scene().lattice), 1.0};
+  snapshots_.push_back(data);
+  return std::shared_ptr<const FieldData>(std::move(data));
 }
 
 storage::CheckpointContents Session::checkpoint_contents() const {
@@ -470,12 +526,14 @@ storage::CheckpointContents Session::checkpoint_contents() const {
   std::lock_guard lock(mutex_);
   c.target_step = target_;
   c.done = state_ == v1::SESSION_STATE_DONE;
+  c.started = state_ != v1::SESSION_STATE_CREATED;
   return c;
 }
 
 void Session::restore(const scene::SimulationState& state, long target_step, v1::SessionState session_state) {
   const auto sim_lock = lock_simulation();
   sim_->load_state(state);
+  refresh_sizes();
   std::lock_guard lock(mutex_);
   step_ = sim_->step_count();
   target_ = target_step;

@@ -9,6 +9,7 @@
 // subscriber lists. Where both are taken, sim_mutex_ comes first.
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -44,6 +45,7 @@ struct FieldData {
 struct StepResult {
   long steps_taken = 0;
   bool deadline_reached = false;
+  bool interrupted = false;  // the call was abandoned, or the session paused, cancelled or deleted
 };
 
 bool is_final(v1::SessionState state);  // FAILED or CANCELLED
@@ -64,12 +66,16 @@ class Session {
   v1::SessionState state() const;
 
   // State changes, each refused with FAILED_PRECONDITION (naming the state) where it does not apply.
+  // Run and Resume are also refused while a synchronous Step holds the session. Pause and Cancel
+  // return once the step in flight has ended: nothing moves after they answer.
   absl::Status run(long steps);
   absl::Status pause();
   absl::Status resume();
   absl::Status cancel();
-  // Up to `steps` steps on the calling thread, stopping before `deadline`.
-  absl::StatusOr<StepResult> step_now(long steps, std::chrono::system_clock::time_point deadline);
+  // Up to `steps` steps on the calling thread, stopping before `deadline`, or at the next step
+  // boundary once `abandoned()` is true or the session is paused, cancelled or deleted.
+  absl::StatusOr<StepResult> step_now(long steps, std::chrono::system_clock::time_point deadline,
+                                      const std::function<bool()>& abandoned);
 
   // Worker pool: claim_schedule() is true when the caller must queue the session (it wants work
   // and is not queued yet); advance() runs one slice; finish_slice() is true when it must be queued
@@ -85,14 +91,26 @@ class Session {
   absl::StatusOr<std::shared_ptr<FrameChannel<v1::ParticleFrame>>> watch_particles(
       long every, Delivery delivery, const std::vector<std::string>& bodies);
 
-  absl::StatusOr<FieldData> fields() const;
+  // The fluid's fields at the current step, shared by every reader of that step: at most
+  // kFieldSnapshots copies per session are alive at once (slow readers hold theirs), so readers
+  // cannot multiply the session's memory; past that, RESOURCE_EXHAUSTED.
+  static constexpr int kFieldSnapshots = 2;
+  absl::StatusOr<std::shared_ptr<const FieldData>> fields() const;
   storage::CheckpointContents checkpoint_contents() const;
   // Right after construction: continue from a checkpoint, in `state` with the given target.
   void restore(const scene::SimulationState& state, long target_step, v1::SessionState session_state);
-  // Pauses a running session and returns once no worker is stepping it.
-  void pause_and_settle();
   // The session is deleted or the daemon stops: every stream ends, the worker leaves it.
   void close();
+
+  // Writes of this session's files (checkpoints, saves) happen one at a time under this lock.
+  std::unique_lock<std::mutex> lock_saves() const { return std::unique_lock(saves_mutex_); }
+  std::mutex& saves_mutex() const { return saves_mutex_; }
+  // After recovery from a save: steps its worker had reached past the save (lost in a crash).
+  void set_steps_lost(long steps) { steps_lost_ = steps; }
+  // For the workers: true every kProgressNoteInterval while it runs (then its step is worth
+  // recording, SessionStore::note_progress), to one caller only.
+  static constexpr auto kProgressNoteInterval = std::chrono::milliseconds(250);
+  bool progress_note_due();
 
  private:
   struct ParticleWatch {
@@ -101,6 +119,14 @@ class Session {
   };
 
   bool wants_work_locked() const;
+  // Pause and Cancel: refused unless allowed(state); otherwise waits for the step in flight (on a
+  // worker or in a Step call) to end, then moves to `next` at that step.
+  absl::Status stop_at_step_boundary(const char* what, v1::SessionState next,
+                                     bool (*allowed)(v1::SessionState));
+  // A Step call must stop: its client gave up, or a state change or deletion waits for it.
+  bool step_call_must_stop(const std::function<bool()>& abandoned) const;
+  // Sizes shown by describe(), read here under the simulation lock (a restore resizes the solid).
+  void refresh_sizes();
   void set_state_locked(v1::SessionState next, const std::string& message = {});
   void emit_locked(v1::SessionEvent event);
   void close_streams_locked();
@@ -132,8 +158,21 @@ class Session {
   mutable std::mutex sim_mutex_;
   std::unique_ptr<scene::Simulation> sim_;
 
+  mutable std::mutex saves_mutex_;
+  mutable std::mutex snapshots_mutex_;  // taken before sim_mutex_, never inside it
+  mutable std::vector<std::weak_ptr<const FieldData>> snapshots_;
+  std::atomic<Clock::rep> progress_noted_{0};  // Clock ticks of the last note
+  std::atomic<long> steps_lost_{0};
+
+  // Pause, Cancel and close() waiting for a Step call to let go of the simulation.
+  std::atomic<int> stop_requests_{0};
+  std::atomic<long> particles_{0};
+  std::atomic<long long> fluid_bytes_{0};
+  std::atomic<long long> solid_bytes_{0};
+
   mutable std::mutex mutex_;
   v1::SessionState state_ = v1::SESSION_STATE_CREATED;
+  bool stepping_ = false;  // a Step call holds the simulation
   std::string message_;
   std::atomic<long> step_{0};
   long target_ = 0;

@@ -2,152 +2,175 @@
 
 #include <spdlog/spdlog.h>
 
-#include <filesystem>
+#include <algorithm>
+
+#include <system_error>
 
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "server/api/error_summary.h"
+#include "server/api/log_text.h"
+#include "server/session/session_id.h"
 
 namespace lbsolid::server {
-
-namespace fs = std::filesystem;
 
 namespace {
 
 constexpr auto kSlice = std::chrono::milliseconds(50);
+// GetSession and Step answer with the scenario: at half the 4 MiB message limit it always fits.
+constexpr std::size_t kMaxScenarioBytes = 2 << 20;
+constexpr std::size_t kMaxRequestIdBytes = 128;  // a UUID is 36
 
 long long unix_ms_now() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
 }
 
-// "s-000012" -> 12; 0 if the name is not a session id.
-long session_number(const std::string& name) {
-  if (name.size() < 3 || name.rfind("s-", 0) != 0) return 0;
-  long n = 0;
-  for (std::size_t k = 2; k < name.size(); ++k) {
-    if (name[k] < '0' || name[k] > '9') return 0;
-    n = n * 10 + (name[k] - '0');
-  }
-  return n;
+// The state a saved session comes back in: the one it was saved in, except that a run in progress
+// comes back PAUSED (Resume goes on). FAILED and CANCELLED sessions are never saved.
+v1::SessionState recovered_state(const storage::CheckpointContents& contents) {
+  if (contents.done) return v1::SESSION_STATE_DONE;
+  return contents.started ? v1::SESSION_STATE_PAUSED : v1::SESSION_STATE_CREATED;
 }
 
-// A checkpoint id is "<session id>/step-<digits>": nothing else may reach the file system.
-bool valid_checkpoint_id(const std::string& id) {
-  const auto slash = id.find('/');
-  if (slash == std::string::npos || session_number(id.substr(0, slash)) == 0) return false;
-  const std::string step = id.substr(slash + 1);
-  if (step.size() <= 5 || step.rfind("step-", 0) != 0) return false;
-  return step.find_first_not_of("0123456789", 5) == std::string::npos;
+absl::Status no_session(const std::string& id) {
+  return absl::NotFoundError(absl::StrCat("session_id: no session \"", id.substr(0, 100), "\""));
 }
 
 }  // namespace
 
 SessionManager::SessionManager(std::string data_dir, ManagerLimits limits, storage::WriterInfo writer)
-    : data_dir_(std::move(data_dir)), limits_(limits), writer_(std::move(writer)) {
-  fs::create_directories(fs::path(data_dir_) / "sessions");
-  fs::create_directories(fs::path(data_dir_) / "checkpoints");
-  remove_partial_writes();
-  // New ids never reuse one that has files on disk.
-  for (const char* sub : {"sessions", "checkpoints"})
-    for (const auto& entry : fs::directory_iterator(fs::path(data_dir_) / sub))
-      next_number_ = std::max(next_number_, session_number(entry.path().filename().string()) + 1);
+    : limits_(limits), store_(std::move(data_dir), std::move(writer)) {
   for (int w = 0; w < limits_.workers; ++w) workers_.emplace_back([this] { work(); });
+  if (limits_.autosave_interval.count() > 0) autosaver_ = std::thread([this] { autosave_loop(); });
 }
 
 SessionManager::~SessionManager() {
+  stop_autosave();
   for (const auto& session : list()) session->close();
   stop_workers();
 }
 
-// A checkpoint is written as <file>.tmp-<pid> and renamed; a daemon killed mid-write leaves the
-// temporary file behind (the old checkpoint is intact). Nothing else writes there: remove them.
-void SessionManager::remove_partial_writes() {
-  for (const auto& entry : fs::recursive_directory_iterator(data_dir_)) {
-    if (!entry.is_regular_file() || entry.path().filename().string().find(".tmp-") == std::string::npos) continue;
-    std::error_code ignored;
-    fs::remove(entry.path(), ignored);
-    spdlog::warn("removed {}: a checkpoint write interrupted by an earlier daemon", entry.path().string());
-  }
-}
-
-std::string SessionManager::next_id() { return absl::StrFormat("s-%06d", next_number_++); }
-
 // ---- creation ------------------------------------------------------------------------------
 
-absl::Status SessionManager::admit(const std::string& request_id, const v1::Scenario& scenario,
-                                   std::shared_ptr<Session>* existing) {
-  if (!request_id.empty()) {
-    const auto it = by_request_id_.find(request_id);
-    if (it != by_request_id_.end()) {
-      const auto session = sessions_.find(it->second);
-      if (session != sessions_.end()) {
-        if (session->second->scenario().SerializeAsString() != scenario.SerializeAsString())
-          return absl::AlreadyExistsError(absl::StrCat("request_id: \"", request_id, "\" already created session ",
-                                                       it->second, " from a different scenario"));
-        *existing = session->second;
-        return absl::OkStatus();
-      }
-    }
-  }
-  if (static_cast<int>(sessions_.size()) >= limits_.max_sessions)
-    return absl::ResourceExhaustedError(absl::StrCat("sessions: the daemon holds its limit of ", limits_.max_sessions,
-                                                     " sessions (--max_sessions); delete one or retry later"));
+absl::Status SessionManager::admit_footprint_locked(const Footprint& f) const {
+  if (f.cells > limits_.max_cells)
+    return absl::ResourceExhaustedError(absl::StrCat("scenario.domain: ", f.cells, " fluid nodes exceed this daemon's limit of ",
+                                                     limits_.max_cells, " per session (--max_cells)"));
+  if (committed_.bytes() + f.bytes() > limits_.max_memory_bytes)
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "scenario: needs about ", f.bytes() >> 20, " MiB (", f.resident_bytes >> 20, " MiB for its life, ",
+        f.transient_bytes >> 20, " MiB to save or read it); the daemon has ",
+        std::max(0LL, limits_.max_memory_bytes - committed_.bytes()) >> 20, " MiB of its ",
+        limits_.max_memory_bytes >> 20, " MiB left (--max_memory)"));
+  if (committed_.particles + f.particles > limits_.max_particles)
+    return absl::ResourceExhaustedError(absl::StrCat("scenario.bodies: ", f.particles, " particles; the daemon has ",
+                                                     std::max(0LL, limits_.max_particles - committed_.particles),
+                                                     " of its ", limits_.max_particles, " left (--max_particles)"));
+  if (committed_.pool_threads + f.pool_threads > limits_.max_fluid_threads)
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "scenario.fluid.threads: ", f.pool_threads + 1, " threads need ", f.pool_threads,
+        " beyond the worker's own; the daemon has ", std::max(0, limits_.max_fluid_threads - committed_.pool_threads),
+        " of its ", limits_.max_fluid_threads, " left (--max_fluid_threads)"));
   return absl::OkStatus();
 }
 
-absl::StatusOr<std::shared_ptr<Session>> SessionManager::build(SessionSetup setup) {
-  if (!setup.translated.ok())
-    return absl::InvalidArgumentError(absl::StrJoin(setup.translated.errors, "; "));
-  const auto& f = setup.translated.scene.fluid;
-  const long cells = setup.translated.scene.with_fluid ? static_cast<long>(f.nx) * f.ny * f.nz : 0;
-  if (cells > limits_.max_cells)
-    return absl::ResourceExhaustedError(absl::StrCat("scenario.domain: ", cells, " fluid nodes exceed this daemon's limit of ",
-                                                     limits_.max_cells, " per session (--max_cells)"));
+absl::StatusOr<std::shared_ptr<Session>> SessionManager::reserve_locked(std::unique_lock<std::mutex>& lock,
+                                                                        const v1::Scenario& scenario,
+                                                                        const std::string& request_id,
+                                                                        const Footprint& footprint) {
+  if (!accepting_) return absl::UnavailableError("the daemon is shutting down; retry on its next start");
+  if (!request_id.empty()) {
+    // A retry of a creation still in progress waits for it, then finds its session.
+    creation_done_.wait(lock, [&] { return !requests_in_progress_.contains(request_id); });
+    const auto it = by_request_id_.find(request_id);
+    if (it != by_request_id_.end()) {
+      const auto& session = sessions_.at(it->second);
+      if (session->scenario().SerializeAsString() != scenario.SerializeAsString())
+        return absl::AlreadyExistsError(absl::StrCat("request_id: \"", request_id, "\" already created session ",
+                                                     it->second, " from a different scenario"));
+      return session;
+    }
+  }
+  if (static_cast<int>(sessions_.size()) + creations_in_progress_ >= limits_.max_sessions)
+    return absl::ResourceExhaustedError(absl::StrCat("sessions: the daemon holds its limit of ", limits_.max_sessions,
+                                                     " sessions (--max_sessions); delete one or retry later"));
+  if (auto admitted = admit_footprint_locked(footprint); !admitted.ok()) return admitted;
+  committed_ += footprint;
+  ++creations_in_progress_;
+  if (!request_id.empty()) requests_in_progress_.insert(request_id);
+  return nullptr;
+}
+
+absl::StatusOr<std::shared_ptr<Session>> SessionManager::build(SessionSetup setup) const {
+  if (!setup.translated.ok()) return absl::InvalidArgumentError(error_summary(setup.translated.errors));
   try {
     return std::make_shared<Session>(std::move(setup));
   } catch (const std::invalid_argument& e) {
     return absl::InvalidArgumentError(e.what());
   } catch (const std::bad_alloc&) {
     return absl::ResourceExhaustedError("scenario.domain: not enough memory on the daemon for this scenario");
+  } catch (const std::system_error& e) {  // the fluid kernel's threads could not start
+    return absl::ResourceExhaustedError(absl::StrCat("scenario.fluid.threads: cannot start them: ", e.what()));
   }
+}
+
+absl::StatusOr<std::shared_ptr<Session>> SessionManager::add(const v1::Scenario& scenario,
+                                                             const std::string& request_id, const Prepare& prepare) {
+  if (const auto bytes = scenario.ByteSizeLong(); bytes > kMaxScenarioBytes)
+    return absl::InvalidArgumentError(absl::StrCat("scenario: ", bytes, " bytes encoded, more than the ",
+                                                   kMaxScenarioBytes, " a session may hold"));
+  if (request_id.size() > kMaxRequestIdBytes)
+    return absl::InvalidArgumentError(absl::StrCat("request_id: ", request_id.size(), " bytes, more than ",
+                                                   kMaxRequestIdBytes));
+  const Footprint footprint = estimate_footprint(scenario);
+  {
+    std::unique_lock lock(mutex_);
+    auto reserved = reserve_locked(lock, scenario, request_id, footprint);
+    if (!reserved.ok() || *reserved) return reserved;
+  }
+  absl::StatusOr<std::shared_ptr<Session>> session = absl::InternalError("not built");
+  try {
+    session = build({new_session_id(), request_id, scenario, translate_scenario(scenario), unix_ms_now()});
+    if (session.ok())
+      if (auto prepared = prepare(**session); !prepared.ok()) session = prepared;
+  } catch (const std::bad_alloc&) {
+    session = absl::ResourceExhaustedError("scenario: not enough memory on the daemon for this scenario");
+  } catch (const std::exception& e) {
+    session = absl::InternalError(absl::StrCat("scenario: the session could not be built: ", e.what()));
+  }
+  {
+    std::lock_guard lock(mutex_);
+    --creations_in_progress_;
+    requests_in_progress_.erase(request_id);
+    if (session.ok()) {
+      sessions_[(*session)->id()] = *session;
+      footprints_[(*session)->id()] = footprint;
+      if (!request_id.empty()) by_request_id_[request_id] = (*session)->id();
+    } else {
+      committed_ -= footprint;
+    }
+  }
+  creation_done_.notify_all();
+  if (session.ok()) autosave_wake_.notify_one();  // the first save of a new session comes soon
+  return session;
 }
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::create(const v1::Scenario& scenario,
                                                                 const std::string& request_id) {
-  std::lock_guard lock(mutex_);  // one creation at a time: ids and request ids stay consistent
-  auto session = add_locked(scenario, request_id, [](Session&) { return absl::OkStatus(); });
+  auto session = add(scenario, request_id, [](Session&) { return absl::OkStatus(); });
   if (!session.ok()) return session;
   const auto described = (*session)->describe();
-  spdlog::info("session {}: created \"{}\" ({} fluid nodes, {} particles, stages {})", (*session)->id(),
-               scenario.name(), (*session)->cells(), described.particles(), absl::StrJoin(described.stages(), ","));
-  for (const auto& warning : described.warnings()) spdlog::warn("session {}: {}", (*session)->id(), warning);
-  return session;
-}
-
-absl::StatusOr<std::shared_ptr<Session>> SessionManager::add_locked(
-    const v1::Scenario& scenario, const std::string& request_id,
-    const std::function<absl::Status(Session&)>& prepare) {
-  std::shared_ptr<Session> existing;
-  if (auto admitted = admit(request_id, scenario, &existing); !admitted.ok()) return admitted;
-  if (existing) return existing;
-  SessionSetup setup{next_id(), request_id, scenario, translate_scenario(scenario), unix_ms_now()};
-  auto session = build(std::move(setup));
-  if (session.ok())
-    if (auto prepared = prepare(**session); !prepared.ok()) session = prepared;
-  if (!session.ok()) {
-    --next_number_;  // the id was not used
-    return session.status();
-  }
-  sessions_[(*session)->id()] = *session;
-  if (!request_id.empty()) by_request_id_[request_id] = (*session)->id();
+  spdlog::info("session {}: created {} ({} fluid nodes, {} particles, stages {})", (*session)->id(),
+               log_text(scenario.name()), (*session)->cells(), described.particles(), absl::StrJoin(described.stages(), ","));
+  for (const auto& warning : described.warnings()) spdlog::warn("session {}: {}", (*session)->id(), log_text(warning, 500));
   return session;
 }
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::find(const std::string& id) const {
   std::lock_guard lock(mutex_);
   const auto it = sessions_.find(id);
-  if (it == sessions_.end()) return absl::NotFoundError(absl::StrCat("session_id: no session \"", id, "\""));
+  if (it == sessions_.end()) return no_session(id);
   return it->second;
 }
 
@@ -168,14 +191,19 @@ absl::Status SessionManager::remove(const std::string& id) {
   {
     std::lock_guard lock(mutex_);
     const auto it = sessions_.find(id);
-    if (it == sessions_.end()) return absl::NotFoundError(absl::StrCat("session_id: no session \"", id, "\""));
+    if (it == sessions_.end()) return no_session(id);
     session = it->second;
     sessions_.erase(it);
     if (!session->request_id().empty()) by_request_id_.erase(session->request_id());
   }
   session->close();
-  std::error_code ignored;
-  fs::remove_all(fs::path(data_dir_) / "sessions" / id, ignored);
+  {
+    // Its memory is free once the last call holding it lets go; close() ended the streams.
+    std::lock_guard lock(mutex_);
+    committed_ -= footprints_.at(id);
+    footprints_.erase(id);
+  }
+  store_.forget(*session);
   spdlog::info("session {}: deleted", id);
   return absl::OkStatus();
 }
@@ -198,6 +226,18 @@ absl::Status SessionManager::resume(const std::string& id) {
   return absl::OkStatus();
 }
 
+absl::Status SessionManager::cancel(const std::string& id) {
+  auto session = find(id);
+  if (!session.ok()) return session.status();
+  if (auto status = (*session)->cancel(); !status.ok()) return status;
+  settle(**session);
+  return absl::OkStatus();
+}
+
+void SessionManager::settle(const Session& session) {
+  if (is_final(session.state())) store_.forget(session);
+}
+
 void SessionManager::schedule(const std::shared_ptr<Session>& session) {
   if (!session->claim_schedule()) return;
   std::lock_guard lock(queue_mutex_);
@@ -216,7 +256,10 @@ void SessionManager::work() {
       queue_.pop_front();
     }
     session->advance(kSlice);
-    if (session->finish_slice()) {
+    const bool more = session->finish_slice();
+    settle(*session);
+    if (session->progress_note_due()) store_.note_progress(*session, session->describe().step());
+    if (more) {
       std::lock_guard lock(queue_mutex_);
       queue_.push_back(session);  // to the back: round robin between running sessions
       queue_ready_.notify_one();
@@ -241,107 +284,145 @@ void SessionManager::stop_workers() {
 absl::StatusOr<CheckpointInfo> SessionManager::checkpoint(const std::string& id) {
   auto session = find(id);
   if (!session.ok()) return session.status();
-  const auto contents = (*session)->checkpoint_contents();
-  CheckpointInfo info;
-  info.step = contents.state.step;
-  info.checkpoint_id = absl::StrFormat("%s/step-%09d", id, info.step);
-  const fs::path path = fs::path(data_dir_) / "checkpoints" / (info.checkpoint_id + ".h5");
-  try {
-    fs::create_directories(path.parent_path());
-    storage::write_checkpoint(path.string(), contents, writer_);
-  } catch (const std::exception& e) {
-    spdlog::error("session {}: checkpoint failed: {}", id, e.what());
-    return absl::InternalError(absl::StrCat("checkpoint: ", e.what()));
-  }
-  info.path = path.string();
-  info.bytes = static_cast<long>(fs::file_size(path));
-  spdlog::info("session {}: checkpoint {} ({} bytes)", id, info.checkpoint_id, info.bytes);
-  return info;
+  return store_.checkpoint(**session);
 }
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::restore(const std::string& checkpoint_id,
                                                                  const std::string& request_id) {
-  if (!valid_checkpoint_id(checkpoint_id))
-    return absl::InvalidArgumentError(absl::StrCat("checkpoint_id: \"", checkpoint_id,
-                                                   "\" is not of the form <session id>/step-<step>"));
-  const fs::path path = fs::path(data_dir_) / "checkpoints" / (checkpoint_id + ".h5");
-  if (!fs::exists(path)) return absl::NotFoundError(absl::StrCat("checkpoint_id: no checkpoint \"", checkpoint_id, "\""));
-  storage::CheckpointContents contents;
-  try {
-    contents = storage::read_checkpoint(path.string());
-  } catch (const std::exception& e) {
-    return absl::DataLossError(absl::StrCat("checkpoint_id: ", e.what()));
-  }
+  auto contents = store_.read_checkpoint(checkpoint_id);
+  if (!contents.ok()) return contents.status();
   v1::Scenario scenario;
   std::string error;
-  if (!parse_scenario_text(contents.scenario_text, &scenario, &error))
+  if (!parse_scenario_text(contents->scenario_text, &scenario, &error))
     return absl::DataLossError(absl::StrCat("checkpoint_id: its scenario does not parse: ", error));
-
-  std::lock_guard lock(mutex_);
-  auto session = add_locked(scenario, request_id, [&](Session& fresh) {
+  auto session = add(scenario, request_id, [&](Session& fresh) {
     try {
-      fresh.restore(contents.state, contents.target_step, v1::SESSION_STATE_PAUSED);
+      fresh.restore(contents->state, contents->target_step, v1::SESSION_STATE_PAUSED);
       return absl::OkStatus();
     } catch (const std::invalid_argument& e) {
       return absl::DataLossError(absl::StrCat("checkpoint_id: ", e.what()));
     }
   });
   if (!session.ok()) return session;
-  spdlog::info("session {}: restored from {} at step {}", (*session)->id(), checkpoint_id, contents.state.step);
+  spdlog::info("session {}: restored from {} at step {}", (*session)->id(), checkpoint_id, contents->state.step);
   return session;
 }
 
-// ---- shutdown and recovery -----------------------------------------------------------------
+// ---- saves, shutdown and recovery ----------------------------------------------------------
 
-void SessionManager::shutdown() {
-  const auto sessions = list();
-  for (const auto& session : sessions) session->pause_and_settle();
-  stop_workers();
-  for (const auto& session : sessions) {
-    const fs::path dir = fs::path(data_dir_) / "sessions" / session->id();
-    std::error_code ignored;
-    if (is_final(session->state())) {
-      fs::remove_all(dir, ignored);  // a failed or cancelled run does not come back
-      continue;
-    }
-    try {
-      fs::create_directories(dir);
-      storage::write_checkpoint((dir / "session.h5").string(), session->checkpoint_contents(), writer_);
-      spdlog::info("session {}: saved for the next start at step {}", session->id(), session->describe().step());
-    } catch (const std::exception& e) {
-      spdlog::error("session {}: could not be saved: {}", session->id(), e.what());
-    }
-    session->close();  // its streams end now, so the server's shutdown need not wait for them
+void SessionManager::autosave(const std::shared_ptr<Session>& session) {
+  const auto d = session->describe();
+  const auto version = std::make_tuple(static_cast<long>(d.step()), static_cast<long>(d.target_step()),
+                                       static_cast<int>(d.state()));
+  const auto known = saved_.find(session->id());
+  if (known != saved_.end() && known->second == version) return;  // nothing changed since
+  if (is_final(d.state())) return;  // settle() removed its save
+  const auto saved = store_.save(*session);
+  if (!saved.ok()) {
+    spdlog::error("session {}: autosave failed: {}", session->id(), log_text(std::string(saved.status().message()), 1000));
+    return;
   }
+  saved_[session->id()] = version;
+  spdlog::debug("session {}: autosaved at step {}", session->id(), *saved);
+}
+
+void SessionManager::autosave_loop() {
+  std::unique_lock lock(autosave_mutex_);
+  auto next_pass = std::chrono::steady_clock::now() + limits_.autosave_interval;
+  while (!autosave_stopping_) {
+    // A new session wakes it early for its first save; the others wait for the interval.
+    autosave_wake_.wait_until(lock, next_pass);
+    if (autosave_stopping_) break;
+    const bool full_pass = std::chrono::steady_clock::now() >= next_pass;
+    if (full_pass) next_pass = std::chrono::steady_clock::now() + limits_.autosave_interval;
+    lock.unlock();
+    const auto sessions = list();
+    std::erase_if(saved_, [&](const auto& entry) {
+      return std::none_of(sessions.begin(), sessions.end(), [&](const auto& s) { return s->id() == entry.first; });
+    });
+    for (const auto& session : sessions)
+      if (full_pass || !saved_.contains(session->id())) autosave(session);
+    lock.lock();
+  }
+}
+
+void SessionManager::stop_autosave() {
+  {
+    std::lock_guard lock(autosave_mutex_);
+    autosave_stopping_ = true;
+  }
+  autosave_wake_.notify_all();
+  if (autosaver_.joinable()) autosaver_.join();
+}
+
+void SessionManager::pause_all() {
+  for (const auto& session : list())
+    if (session->state() == v1::SESSION_STATE_RUNNING) (void)session->pause();  // it may have just ended
+}
+
+std::vector<std::string> SessionManager::shutdown() {
+  {
+    std::lock_guard lock(mutex_);
+    accepting_ = false;
+  }
+  stop_autosave();
+  pause_all();  // again: calls in flight at SIGTERM may have resumed some
+  stop_workers();
+  const auto sessions = list();
+  std::vector<std::string> unsaved;
+  for (const auto& session : sessions) {
+    if (is_final(session->state())) {
+      store_.forget(*session);  // a failed or cancelled run does not come back
+    } else if (const auto saved = store_.save(*session); saved.ok()) {
+      spdlog::info("session {}: saved for the next start at step {}", session->id(), *saved);
+    } else {
+      spdlog::error("session {}: NOT SAVED, its work since the last save is lost: {}", session->id(),
+                    log_text(std::string(saved.status().message()), 1000));
+      unsaved.push_back(session->id());
+    }
+    session->close();  // its streams end now
+  }
+  return unsaved;
 }
 
 int SessionManager::recover() {
   int recovered = 0;
-  for (const auto& entry : fs::directory_iterator(fs::path(data_dir_) / "sessions")) {
-    const fs::path file = entry.path() / "session.h5";
-    if (!fs::exists(file)) continue;
+  for (auto& saved : store_.saved_sessions()) {
+    const auto& contents = saved.contents;
+    v1::Scenario scenario;
+    std::string error;
+    if (!parse_scenario_text(contents.scenario_text, &scenario, &error)) {
+      spdlog::error("session {}: not recovered: its scenario does not parse: {}", contents.session_id,
+                    log_text(error, 500));
+      continue;
+    }
+    auto session = build({contents.session_id, contents.request_id, scenario, translate_scenario(scenario), unix_ms_now()});
+    if (!session.ok()) {
+      spdlog::error("session {}: not recovered: {}", contents.session_id, log_text(std::string(session.status().message()), 1000));
+      continue;
+    }
     try {
-      const auto contents = storage::read_checkpoint(file.string());
-      v1::Scenario scenario;
-      std::string error;
-      if (!parse_scenario_text(contents.scenario_text, &scenario, &error)) throw std::runtime_error(error);
-      SessionSetup setup{contents.session_id, contents.request_id, scenario, translate_scenario(scenario),
-                         unix_ms_now()};
-      auto session = build(std::move(setup));
-      if (!session.ok()) throw std::runtime_error(std::string(session.status().message()));
-      // A run that had reached its target comes back DONE; every other one PAUSED (Resume goes on).
-      (*session)->restore(contents.state, contents.target_step,
-                          contents.done ? v1::SESSION_STATE_DONE : v1::SESSION_STATE_PAUSED);
+      (*session)->restore(contents.state, contents.target_step, recovered_state(contents));
+    } catch (const std::invalid_argument& e) {
+      spdlog::error("session {}: not recovered: {}", contents.session_id, log_text(e.what(), 1000));
+      continue;
+    }
+    (*session)->set_steps_lost(saved.steps_lost);
+    {
       std::lock_guard lock(mutex_);
+      const Footprint footprint = estimate_footprint(scenario);  // counted even past the limits
+      committed_ += footprint;
+      footprints_[contents.session_id] = footprint;
       sessions_[contents.session_id] = *session;
       if (!contents.request_id.empty()) by_request_id_[contents.request_id] = contents.session_id;
-      next_number_ = std::max(next_number_, session_number(contents.session_id) + 1);
-      spdlog::info("session {}: recovered {} at step {}", contents.session_id, contents.done ? "DONE" : "PAUSED",
-                   contents.state.step);
-      ++recovered;
-    } catch (const std::exception& e) {
-      spdlog::error("{}: not recovered: {}", file.string(), e.what());
     }
+    if (saved.steps_lost > 0)
+      spdlog::warn("session {}: recovered at step {}; {} steps run after its last save were lost", contents.session_id,
+                   contents.state.step, saved.steps_lost);
+    else
+      spdlog::info("session {}: recovered {} at step {}", contents.session_id,
+                   v1::SessionState_Name(recovered_state(contents)), contents.state.step);
+    ++recovered;
   }
   return recovered;
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -253,8 +254,11 @@ struct DatasetValues {
   std::vector<T> values;  // C order
 };
 
+// More than max_values is refused before anything is allocated: a damaged extent must not ask
+// for terabytes.
 template <class T>
-DatasetValues<T> read_dataset(hid_t location, const std::string& name) {
+DatasetValues<T> read_dataset(hid_t location, const std::string& name,
+                              hsize_t max_values = std::numeric_limits<hsize_t>::max()) {
   const Dataset dataset(check(H5Dopen2(location, name.c_str(), H5P_DEFAULT), "missing dataset " + name));
   const Dataspace space(check(H5Dget_space(dataset.get()), "cannot read dataset " + name));
   const Datatype type(check(H5Dget_type(dataset.get()), "cannot read dataset " + name));
@@ -263,7 +267,12 @@ DatasetValues<T> read_dataset(hid_t location, const std::string& name) {
     throw std::runtime_error("dataset " + name + " is not numeric");
   DatasetValues<T> result;
   result.dims = extent_of(space.get());
-  result.values.resize(element_count(result.dims));
+  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
+  check_status(count < 0 ? -1 : 0, "cannot read dataset " + name);
+  if (static_cast<hsize_t>(count) > max_values)
+    throw std::runtime_error("dataset " + name + " claims " + std::to_string(count) + " values, more than the " +
+                             std::to_string(max_values) + " the file can hold");
+  result.values.resize(static_cast<std::size_t>(count));
   if (!result.values.empty())
     check_status(H5Dread(dataset.get(), NumberType<T>::memory(), H5S_ALL, H5S_ALL, H5P_DEFAULT, result.values.data()),
                  "cannot read dataset " + name);

@@ -2,12 +2,18 @@
 // common-velocity exchange, and conservation of fluid plus solid momentum in a periodic box.
 #include <gtest/gtest.h>
 
+#include <cfloat>
 #include <cmath>
+#include <iterator>
 #include <random>
+#include <string>
 
 #include "coupling/momentum_exchange.h"
 #include "coupling/node_locator.h"
 #include "fluid/fluid_test_support.h"
+#include "lattice/d2q7.h"
+#include "lattice/d2q9.h"
+#include "lattice/d3q19.h"
 #include "scene/simulation.h"
 
 namespace lbsolid::coupling {
@@ -54,6 +60,52 @@ TEST(NodeLocator, NearestNodeOnSquareAndTriangularGrids) {
   check_nearest<lattice::D2Q9>(box(10, 8, 1, false));
   check_nearest<lattice::D2Q7>(box(10, 8, 1, false));
   check_nearest<lattice::D2Q7>(box(9, 7, 1, true));
+}
+
+// Between two monitor checks a diverging particle can reach NaN or 1e300, and the exchange still
+// asks for its node: nearest() must give a node of the grid for any double (casting such a value to
+// long is undefined). A NaN coordinate is read as 0; on a walled axis a huge or infinite one gives
+// the first or last node, as any position beyond the wall does.
+template <class L>
+void check_any_double(const fluid::FluidConfig& c) {
+  const NodeLocator<L> locator(c);
+  const double values[] = {NAN, -NAN, INFINITY, -INFINITY, 1e300, -1e300, 1e18, -1e18, DBL_MAX, -DBL_MAX, 0.3};
+  const int n[3] = {c.nx, c.ny, c.nz};
+  const bool periodic[3] = {c.sides[fluid::kXLow].kind == fluid::WallKind::kPeriodic,
+                            c.sides[fluid::kYLow].kind == fluid::WallKind::kPeriodic,
+                            c.sides[fluid::kZLow].kind == fluid::WallKind::kPeriodic};
+  const int count = std::size(values);
+  for (int i = 0; i < count; ++i)
+    for (int j = 0; j < count; ++j)
+      for (int k = 0; k < (L::D == 3 ? count : 1); ++k) {
+        const Vec3 r{values[i], values[j], L::D == 3 ? values[k] : 0.0};
+        const Node found = locator.nearest(r);
+        const std::string at = "at (" + std::to_string(r[0]) + ", " + std::to_string(r[1]) + ", " +
+                               std::to_string(r[2]) + ")";
+        for (int a = 0; a < 3; ++a) {
+          ASSERT_GE(found[a], 0) << at;
+          ASSERT_LT(found[a], a < L::D ? n[a] : 1) << at;
+          if (a >= L::D || periodic[a] || std::isnan(r[a]) || std::abs(r[a]) < 1e18) continue;
+          EXPECT_EQ(found[a], r[a] > 0 ? n[a] - 1 : 0) << "axis " << a << " " << at;
+        }
+        const Vec3 nan_as_zero{std::isnan(r[0]) ? 0 : r[0], std::isnan(r[1]) ? 0 : r[1], std::isnan(r[2]) ? 0 : r[2]};
+        EXPECT_EQ(found, locator.nearest(nan_as_zero)) << at;
+      }
+}
+
+fluid::FluidConfig walled_box(int nx, int ny, int nz, int dimension) {
+  fluid::FluidConfig c = box(nx, ny, nz, false);
+  for (int side = 0; side < 2 * dimension; ++side) c.sides[side].kind = fluid::WallKind::kBounceBack;
+  return c;
+}
+
+TEST(NodeLocator, NearestIsANodeForAnyDouble) {
+  check_any_double<lattice::D2Q9>(box(10, 8, 1, false));
+  check_any_double<lattice::D2Q9>(walled_box(10, 8, 1, 2));
+  check_any_double<lattice::D2Q7>(box(10, 8, 1, false));
+  check_any_double<lattice::D2Q7>(walled_box(9, 7, 1, 2));
+  check_any_double<lattice::D3Q19>(box(6, 5, 4, false));
+  check_any_double<lattice::D3Q19>(walled_box(6, 5, 4, 3));
 }
 
 // One exchange leaves a lone particle and its node at the same velocity, with dP = Z (u_s - u_f),

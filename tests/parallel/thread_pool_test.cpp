@@ -2,7 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <atomic>
+#include <fstream>
+#include <string>
+#include <system_error>
 #include <vector>
 
 namespace lbsolid::parallel {
@@ -28,6 +35,37 @@ TEST(ThreadPoolTest, RepeatedJobsReuseTheWorkers) {
     pool.parallel_for(10, [&](long begin, long end) { total += end - begin; });
   }
   EXPECT_EQ(total.load(), 2000);
+}
+
+// The address space of this process now, in bytes (/proc/self/statm's first field is pages).
+long address_space_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0;
+  statm >> pages;
+  return pages * sysconf(_SC_PAGESIZE);
+}
+
+// A pool whose threads cannot all start (each needs an 8 MiB stack; the address space is capped at
+// what the process has plus 64 MiB, root or not) throws std::system_error and stops the threads it
+// had started; it used to leave them joinable, which ends the process in std::terminate.
+TEST(ThreadPoolTest, AThreadThatCannotStartIsACleanError) {
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const rlim_t cap = static_cast<rlim_t>(address_space_bytes()) + (64L << 20);
+    const rlimit limit{cap, cap};
+    if (setrlimit(RLIMIT_AS, &limit) != 0) _exit(3);
+    try {
+      ThreadPool pool(256);
+      _exit(2);  // all 255 threads started: the cap did not bite
+    } catch (const std::system_error&) {
+      _exit(0);
+    }
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status)) << "the child died of signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0);
 }
 
 }  // namespace

@@ -2,6 +2,9 @@
 // scene declares, and a fluid-only scene is exactly the bare fluid.
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <stdexcept>
+
 #include "fluid/fluid_test_support.h"
 #include "scene/simulation.h"
 
@@ -63,6 +66,61 @@ TEST(SceneValidation, BodyNamesAreUniqueDefaultsIncluded) {
   EXPECT_EQ(errors[0], "bodies[1].name: \"body0\" is already the name of bodies[0]");
   s.bodies.back().name = "second";
   EXPECT_TRUE(validate_scene(s).empty());
+}
+
+// One error per shared name, with how many bodies share it, found in n log n: 10^5 bodies of one
+// name (99,999 duplicates) give one error, not 99,999 (nor minutes of pairwise comparison).
+TEST(SceneValidation, SharedNamesAreReportedOncePerNameWithACount) {
+  Scene s = channel();
+  s.with_fluid = false;
+  for (const char* name : {"a", "b", "a", "c", "b", "a"}) {
+    s.bodies.push_back(disk_at(10, 4.5));
+    s.bodies.back().name = name;
+  }
+  EXPECT_EQ(validate_scene(s), (std::vector<std::string>{
+                                   "bodies[2].name: \"a\" is already the name of bodies[0] (3 bodies share this "
+                                   "name; the last is bodies[5])",
+                                   "bodies[4].name: \"b\" is already the name of bodies[1]",
+                               }));
+  solid::BodySpec chain;
+  chain.shape = solid::BodyShape::kChain;
+  chain.length = 2;
+  chain.centre = {10, 4.5, 0};
+  chain.name = "same";
+  s.bodies.assign(100000, chain);
+  EXPECT_EQ(validate_scene(s), std::vector<std::string>{"bodies[1].name: \"same\" is already the name of bodies[0] "
+                                                        "(100000 bodies share this name; the last is bodies[99999])"});
+}
+
+// A message echoes at most 64 bytes of a name, cut between characters, so 20 of them stay short.
+TEST(SceneValidation, MessagesEchoAtMost64BytesOfAName) {
+  Scene s = channel();
+  s.bodies.push_back(disk_at(5, 4.5));
+  s.bodies.push_back(disk_at(14, 4.5));
+  // 63 ASCII bytes and a 2-byte character across byte 64: the cut falls before that character.
+  const std::string name = std::string(63, 'n') + "\xc3\xa9" + std::string(200, 'x');
+  s.bodies[0].name = s.bodies[1].name = name;
+  EXPECT_EQ(validate_scene(s), std::vector<std::string>{"bodies[1].name: \"" + std::string(63, 'n') +
+                                                        "...\" is already the name of bodies[0]"});
+}
+
+// A finite spacing times a long extent overflows to infinite positions (which the nearest-node
+// search and the solid cannot place); validation says so on the spacing.
+TEST(SceneValidation, SpacingThatOverflowsPositionsIsRefused) {
+  Scene s;
+  s.fluid.nx = s.fluid.ny = 8;  // periodic: no wall to catch the particles first
+  s.exchange = coupling::ExchangeRule::kPairwise;  // whose warning finds each particle's node
+  solid::BodySpec chain;
+  chain.shape = solid::BodyShape::kChain;
+  chain.length = 1000;
+  chain.spacing = 1e307;
+  chain.centre = {4, 4, 0};
+  s.bodies.push_back(chain);
+  EXPECT_EQ(validate_scene(s), std::vector<std::string>{"bodies[0].spacing: 1e+307 times the body's extent puts "
+                                                        "particles at non-finite positions"});
+  s.bodies[0].spacing = 1e300;  // far away but finite: valid in a periodic box, and the warning is defined
+  EXPECT_TRUE(validate_scene(s).empty());
+  EXPECT_NO_THROW(scene_warnings(s));
 }
 
 TEST(SceneValidation, SceneWithoutFluidNeedsABodyAndNoBodyForce) {
@@ -165,6 +223,32 @@ TEST(SimulationObservers, ReadTheStateTheyDescribe) {
   EXPECT_NEAR(t.solid_energy, 0.5 * state.mass * (0.02 * 0.02 + 0.01 * 0.01), 1e-17);
   EXPECT_THROW(sim->body_state(2), std::out_of_range);
   for (double u : sim->velocity_profile()) EXPECT_EQ(u, 0.0);
+}
+
+// particle_velocity reads the solid: without one, or for a particle it does not hold, it throws
+// rather than reading through a null pointer or past the end of the arrays.
+TEST(SimulationObservers, ParticleVelocityChecksItsArgument) {
+  const auto fluid_only = build_simulation(channel());
+  try {
+    fluid_only->particle_velocity(0);
+    FAIL() << "no exception without bodies";
+  } catch (const std::logic_error& e) {
+    EXPECT_EQ(std::string(e.what()), "particle_velocity: the scene has no bodies");
+  }
+  Scene s = channel();
+  s.bodies.push_back(disk_at(10, 4.5));  // 13 particles
+  s.bodies[0].velocity = {0.02, 0, 0};
+  const auto sim = build_simulation(s);
+  EXPECT_NEAR(sim->particle_velocity(12)[0], 0.02, 1e-16);
+  for (int p : {-1, 13, std::numeric_limits<int>::max(), std::numeric_limits<int>::min()}) {
+    try {
+      sim->particle_velocity(p);
+      FAIL() << "no exception for particle " << p;
+    } catch (const std::out_of_range& e) {
+      EXPECT_EQ(std::string(e.what()),
+                "particle_velocity: no particle " + std::to_string(p) + " (the scene has 13)");
+    }
+  }
 }
 
 TEST(SceneValidation, MonitorLimitsAndSpeedsThatCannotBeStable) {

@@ -14,10 +14,15 @@
 #include "json_writer.h"
 #include "progress_bar.h"
 #include "result_writer.h"
-#include "sha256.h"
+#include "server/storage/sha256.h"
 
 namespace lbsolid::cli {
 namespace {
+
+// The CLI's checksums are storage's SHA-256 (one implementation, lbsolid_sha256).
+using server::storage::Sha256;
+using server::storage::sha256_file_hex;
+using server::storage::sha256_hex;
 
 // --- SHA-256 -------------------------------------------------------------------------------------
 
@@ -211,6 +216,18 @@ TEST(ExitCodes, Mapping) {
                     StatusCode::ABORTED, StatusCode::INTERNAL, StatusCode::UNKNOWN})
     EXPECT_EQ(exit_code_for(code), 3) << status_code_name(code);
   EXPECT_EQ(status_code_name(StatusCode::FAILED_PRECONDITION), "FAILED_PRECONDITION");
+}
+
+// A request gRPC cannot parse comes back INTERNAL with no message, and a message over the size
+// limit RESOURCE_EXHAUSTED: retrying the same call fails the same way, so an orchestrator must not.
+TEST(ExitCodes, FailuresThatARetryCannotFixAreBadInput) {
+  using grpc::StatusCode;
+  EXPECT_EQ(exit_code_for(grpc::Status(StatusCode::INTERNAL, "")), 2);
+  EXPECT_EQ(exit_code_for(grpc::Status(StatusCode::INTERNAL, "checkpoint: disk error")), 3);
+  EXPECT_EQ(exit_code_for(grpc::Status(StatusCode::RESOURCE_EXHAUSTED,
+                                       "Received message larger than max (5242880 vs. 4194304)")),
+            2);
+  EXPECT_EQ(exit_code_for(grpc::Status(StatusCode::RESOURCE_EXHAUSTED, "sessions: the daemon holds its limit")), 3);
 }
 
 // --- JSON and progress text ------------------------------------------------------------------------

@@ -15,6 +15,9 @@
 #include <sstream>
 
 #include "scene/simulation.h"
+#include "server/api/core_field_paths.h"
+#include "server/api/error_summary.h"
+#include "server/api/log_text.h"
 
 namespace lbsolid::server {
 namespace {
@@ -508,6 +511,185 @@ TEST(ScenarioTranslation, AbsurdBodiesAreRefusedCheaply) {
   EXPECT_ERROR(
       errors_of("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_LABELS labels { i: 2147483647 } labels { } }"),
       "scenario.bodies[0].labels[0]: components must lie within +-2^30");
+}
+
+// ---- Names and many problems.
+
+// Names are one line of at most 256 bytes: they are logged, listed, printed on terminals and used
+// as keys of output files. Each error names the field and the reason, without echoing the name.
+TEST(ScenarioTranslation, NamesAreOneLineOfAtMost256Bytes) {
+  const auto named = [](const std::string& scenario_name, const std::string& body_name) {
+    v1::Scenario s = parse("domain { nx: 8 ny: 8 } bodies { shape: BODY_SHAPE_CHAIN length: 2 centre { x: 4 y: 4 } }");
+    s.set_name(scenario_name);
+    s.mutable_bodies(0)->set_name(body_name);
+    return translate_scenario(s).errors;
+  };
+  EXPECT_EQ(named(std::string(256, 's'), std::string(256, 'b')), std::vector<std::string>{});
+  EXPECT_EQ(named("plain name, with punctuation: \xc3\xa9 \xe2\x82\xac", "disk #1"), std::vector<std::string>{});
+  EXPECT_EQ(named(std::string(257, 's'), std::string(100000, 'b')),
+            (std::vector<std::string>{"scenario.name: 257 bytes, more than the limit of 256",
+                                      "scenario.bodies[0].name: 100000 bytes, more than the limit of 256"}));
+  const std::string line = ": a name is one line of printable text; it holds the control character ";
+  EXPECT_EQ(named("run\n2024-01-01 INFO forged", "ok"),
+            std::vector<std::string>{"scenario.name" + line + "U+000A at byte 3"});
+  EXPECT_EQ(named("ok", "tab\there"), std::vector<std::string>{"scenario.bodies[0].name" + line + "U+0009 at byte 3"});
+  EXPECT_EQ(named("\x1b[2J", "ok"), std::vector<std::string>{"scenario.name" + line + "U+001B at byte 0"});
+  EXPECT_EQ(named("del\x7f", "ok"), std::vector<std::string>{"scenario.name" + line + "U+007F at byte 3"});
+  EXPECT_EQ(named("c1 \xc2\x9b", "ok"), std::vector<std::string>{"scenario.name" + line + "U+009B at byte 3"});
+  EXPECT_EQ(named("ls \xe2\x80\xa8", "ok"), std::vector<std::string>{"scenario.name" + line + "U+2028 at byte 3"});
+  // Two bodies of one refused name: the core's "already the name of" would restate the same field.
+  v1::Scenario twice = parse("domain { nx: 8 ny: 8 } "
+                             "bodies { shape: BODY_SHAPE_CHAIN length: 2 centre { x: 2 y: 2 } } "
+                             "bodies { shape: BODY_SHAPE_CHAIN length: 2 centre { x: 6 y: 6 } }");
+  twice.mutable_bodies(0)->set_name("a\rb");
+  twice.mutable_bodies(1)->set_name("a\rb");
+  EXPECT_EQ(translate_scenario(twice).errors,
+            (std::vector<std::string>{"scenario.bodies[0].name" + line + "U+000D at byte 1",
+                                      "scenario.bodies[1].name" + line + "U+000D at byte 1"}));
+}
+
+// 10^5 bodies of one name are one error with a count (the core's check is n log n, as is every
+// pass of the translation; lbsolid-translation-bench measures them).
+TEST(ScenarioTranslation, ManyBodiesOfOneNameAreOneErrorWithACount) {
+  v1::Scenario s = parse("domain { nx: 8 ny: 8 }");
+  v1::Body chain = parse("bodies { name: \"chain\" shape: BODY_SHAPE_CHAIN length: 2 centre { x: 4 y: 4 } }").bodies(0);
+  for (int b = 0; b < 100000; ++b) *s.add_bodies() = chain;
+  EXPECT_EQ(translate_scenario(s).errors,
+            std::vector<std::string>{"scenario.bodies[1].name: \"chain\" is already the name of bodies[0] "
+                                     "(100000 bodies share this name; the last is bodies[99999])"});
+}
+
+// Every problem of 10^5 bodies is kept (a caller in process sees them all); a client is sent the
+// first ones and how many more.
+TEST(ScenarioTranslation, EveryProblemOfManyBodiesIsKeptAndSummarised) {
+  v1::Scenario s = parse("domain { nx: 8 ny: 8 }");
+  // A lone label (core: needs 2 particles) and a stray radius (translation: not a disk's).
+  v1::Body lone = parse("bodies { shape: BODY_SHAPE_LABELS labels { } radius: 1 centre { x: 4 y: 4 } }").bodies(0);
+  constexpr int kBodies = 100000;
+  for (int b = 0; b < kBodies; ++b) *s.add_bodies() = lone;
+  const TranslatedScenario t = translate_scenario(s);
+  ASSERT_EQ(t.errors.size(), 2u * kBodies);
+  EXPECT_EQ(t.errors[0], "scenario.bodies[0].radius: is only used by BODY_SHAPE_DISK, not BODY_SHAPE_LABELS");
+  EXPECT_EQ(t.errors[1], "scenario.bodies[1].radius: is only used by BODY_SHAPE_DISK, not BODY_SHAPE_LABELS");
+  EXPECT_EQ(t.errors[kBodies], "scenario.bodies[0].labels: a body needs at least 2 particles");
+  EXPECT_EQ(t.errors.back(), "scenario.bodies[99999].labels: a body needs at least 2 particles");
+  const std::string summary = error_summary(t.errors);
+  EXPECT_LE(summary.size(), kMaxSummaryBytes);
+  EXPECT_EQ(summary.rfind(t.errors[0] + "; " + t.errors[1] + "; ", 0), 0u) << summary;
+  EXPECT_TRUE(summary.ends_with("; " + t.errors[19] + "; ... and 199980 more problems")) << summary;
+}
+
+// Bytes of `text` once gRPC percent-encodes it as the grpc-message header: everything outside
+// printable ASCII, and '%', takes 3.
+std::size_t percent_encoded_size(const std::string& text) {
+  std::size_t size = 0;
+  for (unsigned char c : text) size += c < 0x20 || c > 0x7E || c == '%' ? 3 : 1;
+  return size;
+}
+
+// A client refuses a status over its 8 KiB metadata limit as RESOURCE_EXHAUSTED, which means
+// "retry": whatever the problems, the summary is at most 2 KiB, 6 KiB once encoded.
+TEST(ErrorSummary, FitsInAStatusMessageWhateverTheProblems) {
+  EXPECT_EQ(error_summary({}), "");
+  const std::vector<std::string> few = {"scenario.fluid.omega: must lie in (0, 2), got 2.5",
+                                        "scenario.domain.nx: must be at least 1, got 0"};
+  EXPECT_EQ(error_summary(few), few[0] + "; " + few[1]);  // a short list is joined as before
+  std::vector<std::string> twenty;
+  for (int p = 0; p < 20; ++p)
+    twenty.push_back("scenario.bodies[" + std::to_string(p) + "].radius: must be at least 1");
+  std::string joined = twenty[0];
+  for (int p = 1; p < 20; ++p) joined += "; " + twenty[p];
+  EXPECT_EQ(error_summary(twenty), joined);
+  twenty.push_back("scenario.bodies[20].radius: must be at least 1");
+  EXPECT_EQ(error_summary(twenty), joined + "; ... and 1 more problem");
+
+  // 130 problems of 100 bytes (the case that was retried forever): as many as fit, then a count.
+  std::vector<std::string> many(130, "scenario.bodies[0].centre: " + std::string(73, 'x'));
+  std::string summary = error_summary(many);
+  EXPECT_LE(summary.size(), kMaxSummaryBytes);
+  EXPECT_TRUE(summary.ends_with("; ... and 111 more problems")) << summary;  // 19 of 100 bytes fit
+
+  // Problems that echo long text, in bytes that percent-encoding triples, each cut on a character.
+  const std::string e_acute = "\xc3\xa9";
+  std::string long_text;
+  for (int c = 0; c < 5000; ++c) long_text += e_acute;
+  std::vector<std::string> wide(200, "scenario.name: " + long_text);
+  summary = error_summary(wide);
+  EXPECT_LE(summary.size(), kMaxSummaryBytes);
+  EXPECT_LE(percent_encoded_size(summary), 3 * kMaxSummaryBytes);
+  EXPECT_LT(3 * kMaxSummaryBytes, 8192u - 1024u);  // room for the call's other headers
+  // 256 bytes: "scenario.name: " (15) and 120 whole characters, the cut one left out.
+  EXPECT_EQ(summary.rfind("scenario.name: " + long_text.substr(0, 240) + "...; ", 0), 0u) << summary;
+  EXPECT_TRUE(summary.ends_with(" more problems")) << summary;
+}
+
+// From translation to summary: 200 bodies in pairs of one 256-byte name.
+TEST(ErrorSummary, SharedLongNamesStayShort) {
+  v1::Scenario s = parse("domain { nx: 8 ny: 8 }");
+  for (int b = 0; b < 200; ++b) {
+    v1::Body& body = *s.add_bodies();
+    body.set_shape(v1::BODY_SHAPE_CHAIN);
+    body.set_length(2);
+    body.mutable_centre()->set_x(4);
+    body.mutable_centre()->set_y(4);
+    body.set_name(std::to_string(b / 2) + std::string(256 - std::to_string(b / 2).size(), 'n'));
+  }
+  const TranslatedScenario t = translate_scenario(s);
+  ASSERT_EQ(t.errors.size(), 100u) << listed(t.errors);
+  EXPECT_EQ(t.errors[0],
+            "scenario.bodies[1].name: \"0" + std::string(63, 'n') + "...\" is already the name of bodies[0]");
+  const std::string summary = error_summary(t.errors);
+  EXPECT_LE(summary.size(), kMaxSummaryBytes);
+  EXPECT_TRUE(summary.ends_with(" more problems")) << summary;
+}
+
+// The core's field "bodies[<index>]" is read without overflow: an index that does not fit, or that
+// the core was not shown, is not a proto path (the message is then kept whole on "scenario").
+TEST(ScenarioTranslation, CoreBodyIndicesAreReadWithoutOverflow) {
+  const std::vector<int> original = {0, 2};
+  EXPECT_EQ(core_field_path("bodies[1].radius", original), "scenario.bodies[2].radius");
+  for (const char* field : {"bodies[2].radius", "bodies[-1].radius", "bodies[18446744073709551616].radius",
+                            "bodies[99999999999999999999999999].radius", "bodies[].radius", "bodies[1x].radius",
+                            "bodies[1"})
+    EXPECT_EQ(core_field_path(field, original), std::nullopt) << field;
+}
+
+// ---- Log text.
+
+TEST(LogText, OneQuotedLineWhateverTheText) {
+  EXPECT_EQ(log_text("drag disk"), "\"drag disk\"");
+  EXPECT_EQ(log_text(""), "\"\"");
+  // A forged line, quotes and backslashes, every ASCII control character, DEL.
+  EXPECT_EQ(log_text("run\n2024-01-01 INFO session 7: created \"x\""),
+            "\"run\\n2024-01-01 INFO session 7: created \\\"x\\\"\"");
+  EXPECT_EQ(log_text("a\rb\tc\\d"), "\"a\\rb\\tc\\\\d\"");
+  EXPECT_EQ(log_text(std::string("\0\x01\x1b[31m\x1f\x7f", 9)), "\"\\x00\\x01\\x1b[31m\\x1f\\x7f\"");
+  for (int c = 0; c < 0x20; ++c) {
+    const std::string escaped = log_text(std::string(1, static_cast<char>(c)));
+    for (char e : escaped) EXPECT_TRUE(e >= 0x20 && e < 0x7F) << "byte " << c << " gives " << escaped;
+  }
+  // UTF-8 passes; C1 controls and the Unicode line separators are escaped; broken UTF-8 is \xNN.
+  EXPECT_EQ(log_text("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80"), "\"caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80\"");
+  EXPECT_EQ(log_text("\xc2\x85|\xc2\x9b|\xe2\x80\xa8|\xe2\x80\xa9"), "\"\\u0085|\\u009b|\\u2028|\\u2029\"");
+  EXPECT_EQ(log_text("\xff|\xc3|\xc0\x8a|\xed\xa0\x80|\xe2\x80"),
+            "\"\\xff|\\xc3|\\xc0\\x8a|\\xed\\xa0\\x80|\\xe2\\x80\"");
+}
+
+std::string quoted(const std::string& text) {
+  std::string q = "\"";
+  q += text;
+  q += '"';
+  return q;
+}
+
+TEST(LogText, LongTextIsCutOnACharacterWithItsSize) {
+  EXPECT_EQ(log_text(std::string(200, 'a')), quoted(std::string(200, 'a')));
+  EXPECT_EQ(log_text(std::string(5000, 'a')), quoted(std::string(200, 'a')) + "...(5000 bytes)");
+  // 199 bytes and a 2-byte character across the limit: the character is left out, not split.
+  EXPECT_EQ(log_text(std::string(199, 'a') + "\xc3\xa9" + "tail"), quoted(std::string(199, 'a')) + "...(205 bytes)");
+  EXPECT_EQ(log_text("abcdef", 3), "\"abc\"...(6 bytes)");
+  // Escapes lengthen the line at most 6-fold: bounded whatever the input.
+  EXPECT_LE(log_text(std::string(100000, '\x01')).size(), 6u * 200 + 32);
 }
 
 // ---- Text.

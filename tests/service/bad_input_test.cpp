@@ -351,12 +351,15 @@ TEST_F(BadInput, BadFieldRequestsAreRefused) {
   }
 }
 
-// A checkpoint id must have the form "<session id>/step-<digits>" (nothing else may reach the file
-// system: no "..", no absolute path); a well-formed id with no file is NOT_FOUND.
+// A checkpoint id must have the form "<session id>/step-<digits>" with a session id as the daemon
+// makes them ("s-" and 32 lowercase hex digits) and at most 18 digits (nothing else may reach the
+// file system: no "..", no absolute path); a well-formed id with no file is NOT_FOUND.
 TEST_F(BadInput, MalformedOrUnknownCheckpointIdIsRefused) {
   for (const std::string id : {"", "nonsense", "../../etc/passwd", "/etc/passwd", "s-000001/../../../etc/passwd",
                                "s-000001/step-", "s-000001/step-12x", "s-000001/step-000000010.h5", "x-000001/step-10",
-                               "s-000001", "s-000001/step-10/more"}) {
+                               "s-000001", "s-000001/step-10/more", "s-000001/step-10",
+                               "s-0123456789abcdef0123456789ABCDEF/step-10",
+                               "s-0123456789abcdef0123456789abcdef/step-1234567890123456789"}) {
     v1::RestoreRequest request;
     request.set_checkpoint_id(id);
     v1::Session session;
@@ -366,7 +369,7 @@ TEST_F(BadInput, MalformedOrUnknownCheckpointIdIsRefused) {
         << "\"" << id << "\"";
   }
   v1::RestoreRequest request;
-  request.set_checkpoint_id("s-000042/step-000000100");
+  request.set_checkpoint_id("s-0123456789abcdef0123456789abcdef/step-000000100");
   v1::Session session;
   auto context = deadline_context();
   EXPECT_TRUE(has_status(stub_->Restore(context.get(), request, &session), StatusCode::NOT_FOUND, "checkpoint_id"));

@@ -19,51 +19,11 @@ namespace {
 namespace fs = std::filesystem;
 using std::chrono::milliseconds;
 
-// Every regular file under dir, relative to it.
-std::vector<std::string> files_under(const fs::path& dir) {
-  std::vector<std::string> out;
-  if (!fs::exists(dir)) return out;
-  for (const auto& entry : fs::recursive_directory_iterator(dir))
-    if (entry.is_regular_file()) out.push_back(fs::relative(entry.path(), dir).string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-// No temporary file of an interrupted or finished write stays behind.
-::testing::AssertionResult no_temporaries(const fs::path& dir) {
-  for (const auto& name : files_under(dir))
-    if (name.find(".tmp") != std::string::npos) return ::testing::AssertionFailure() << "left behind: " << dir / name;
-  return ::testing::AssertionSuccess();
-}
-
 std::string create(v1::Simulation::Stub& stub, const v1::Scenario& scenario = small_channel_with_disk()) {
   v1::Session session;
   const auto status = create_session(stub, scenario, &session);
   EXPECT_TRUE(status.ok()) << status.error_message();
   return session.id();
-}
-
-grpc::Status checkpoint(v1::Simulation::Stub& stub, const std::string& id, v1::CheckpointResponse* out) {
-  v1::CheckpointRequest request;
-  request.set_session_id(id);
-  auto context = deadline_context();
-  return stub.Checkpoint(context.get(), request, out);
-}
-
-grpc::Status restore(v1::Simulation::Stub& stub, const std::string& checkpoint_id, v1::Session* out,
-                     const std::string& request_id = {}) {
-  v1::RestoreRequest request;
-  request.set_checkpoint_id(checkpoint_id);
-  request.set_request_id(request_id);
-  auto context = deadline_context();
-  return stub.Restore(context.get(), request, out);
-}
-
-grpc::Status resume(v1::Simulation::Stub& stub, const std::string& id, v1::Session* out) {
-  v1::ResumeRequest request;
-  request.set_session_id(id);
-  auto context = deadline_context();
-  return stub.Resume(context.get(), request, out);
 }
 
 // Density and velocity of two sessions, compared as raw bytes (bit for bit, NaN patterns included).

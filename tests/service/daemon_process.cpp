@@ -2,6 +2,7 @@
 
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,7 +24,7 @@ std::string fresh_directory(const std::string& stem) {
   return dir.string();
 }
 
-DaemonProcess::DaemonProcess(std::string data_dir, std::vector<std::string> extra_flags)
+DaemonProcess::DaemonProcess(std::string data_dir, std::vector<std::string> extra_flags, ProcessLimits limits)
     : data_dir_(std::move(data_dir)) {
   fs::create_directories(data_dir_);
   const std::string port_file = data_dir_ + "/port";
@@ -35,6 +36,11 @@ DaemonProcess::DaemonProcess(std::string data_dir, std::vector<std::string> extr
   if (pid_ < 0) throw std::runtime_error("fork failed");
   if (pid_ == 0) {
     prctl(PR_SET_PDEATHSIG, SIGKILL);  // a crashed test takes its daemon with it
+    if (limits.max_file_bytes >= 0) {
+      signal(SIGXFSZ, SIG_IGN);  // ignored dispositions survive execv
+      const rlimit size{static_cast<rlim_t>(limits.max_file_bytes), static_cast<rlim_t>(limits.max_file_bytes)};
+      if (setrlimit(RLIMIT_FSIZE, &size) != 0) _exit(126);
+    }
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);

@@ -15,10 +15,18 @@ namespace lbsolid::testing {
 
 namespace v1 = ::lbsolid::v1;
 
+// Limits the daemon process starts under.
+struct ProcessLimits {
+  // RLIMIT_FSIZE: a write past this many bytes fails with EFBIG, as on a full disk (SIGXFSZ is
+  // ignored so that the write fails instead of killing the daemon). Negative: no limit.
+  long max_file_bytes = -1;
+};
+
 class DaemonProcess {
  public:
   // data_dir is created if needed and kept (a restart test starts a second daemon on it).
-  explicit DaemonProcess(std::string data_dir, std::vector<std::string> extra_flags = {});
+  explicit DaemonProcess(std::string data_dir, std::vector<std::string> extra_flags = {},
+                         ProcessLimits limits = {});
   ~DaemonProcess();  // kills the daemon if it still runs
   DaemonProcess(const DaemonProcess&) = delete;
   DaemonProcess& operator=(const DaemonProcess&) = delete;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <algorithm>
 #include <map>
 #include <string>
 
@@ -142,6 +143,46 @@ inline grpc::Status read_fields(v1::Simulation::Stub& stub, const std::string& i
     }
   }
   return reader->Finish();
+}
+
+// Every regular file under dir, relative to it.
+inline std::vector<std::string> files_under(const std::filesystem::path& dir) {
+  std::vector<std::string> out;
+  if (!std::filesystem::exists(dir)) return out;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(dir))
+    if (entry.is_regular_file()) out.push_back(std::filesystem::relative(entry.path(), dir).string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// No temporary file of an interrupted or finished write stays behind.
+inline ::testing::AssertionResult no_temporaries(const std::filesystem::path& dir) {
+  for (const auto& name : files_under(dir))
+    if (name.find(".tmp") != std::string::npos) return ::testing::AssertionFailure() << "left behind: " << dir / name;
+  return ::testing::AssertionSuccess();
+}
+
+inline grpc::Status checkpoint(v1::Simulation::Stub& stub, const std::string& id, v1::CheckpointResponse* out) {
+  v1::CheckpointRequest request;
+  request.set_session_id(id);
+  auto context = deadline_context();
+  return stub.Checkpoint(context.get(), request, out);
+}
+
+inline grpc::Status restore(v1::Simulation::Stub& stub, const std::string& checkpoint_id, v1::Session* out,
+                     const std::string& request_id = {}) {
+  v1::RestoreRequest request;
+  request.set_checkpoint_id(checkpoint_id);
+  request.set_request_id(request_id);
+  auto context = deadline_context();
+  return stub.Restore(context.get(), request, out);
+}
+
+inline grpc::Status resume(v1::Simulation::Stub& stub, const std::string& id, v1::Session* out) {
+  v1::ResumeRequest request;
+  request.set_session_id(id);
+  auto context = deadline_context();
+  return stub.Resume(context.get(), request, out);
 }
 
 }  // namespace lbsolid::testing

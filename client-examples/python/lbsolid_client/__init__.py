@@ -4,9 +4,9 @@
 """
 from ._stubs import scenario_pb2, simulation_pb2, simulation_pb2_grpc
 from .client import (Body, Client, Field, Particles, Profile, Recording, Session, SessionFailed,
-                     load_scenario, particles_from_proto, profile_from_proto)
+                     load_scenario, particles_from_proto, profile_from_proto, retryable)
 from .daemon import LocalDaemon
 
 __all__ = ["Body", "Client", "Field", "LocalDaemon", "Particles", "Profile", "Recording", "Session",
-           "SessionFailed", "load_scenario", "particles_from_proto", "profile_from_proto",
+           "SessionFailed", "load_scenario", "particles_from_proto", "profile_from_proto", "retryable",
            "scenario_pb2", "simulation_pb2", "simulation_pb2_grpc"]

@@ -7,7 +7,8 @@
 
 Every call has a deadline (`timeout`, seconds). Errors from the daemon arrive as grpc.RpcError
 with the status code and a message naming the field at fault; a session that fails while running
-raises SessionFailed with the daemon's "step N: cause".
+raises SessionFailed with the daemon's "step N: cause". `retryable(error)` says whether retrying the
+same call can help (as the CLI's exit code 3 does).
 """
 import threading
 import uuid
@@ -26,6 +27,23 @@ FINAL_STATES = (pb.SESSION_STATE_DONE, pb.SESSION_STATE_FAILED, pb.SESSION_STATE
 
 class SessionFailed(RuntimeError):
     """The session ended FAILED or CANCELLED; the message is the daemon's."""
+
+
+_RETRYABLE = {grpc.StatusCode.UNAVAILABLE, grpc.StatusCode.DEADLINE_EXCEEDED, grpc.StatusCode.RESOURCE_EXHAUSTED,
+              grpc.StatusCode.ABORTED, grpc.StatusCode.INTERNAL, grpc.StatusCode.UNKNOWN,
+              grpc.StatusCode.CANCELLED}
+
+
+def retryable(error: grpc.RpcError) -> bool:
+    """Whether the same call may pass when retried. Not for rejections of the request itself, nor
+    for two that arrive under transient codes: INTERNAL with no message (gRPC could not parse the
+    request) and RESOURCE_EXHAUSTED for a message over gRPC's size limit."""
+    code, details = error.code(), error.details() or ""
+    if code == grpc.StatusCode.INTERNAL and not details:
+        return False
+    if code == grpc.StatusCode.RESOURCE_EXHAUSTED and "message larger than max" in details:
+        return False
+    return code in _RETRYABLE
 
 
 def load_scenario(path) -> "scenario_pb2.Scenario":

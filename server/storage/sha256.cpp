@@ -1,4 +1,4 @@
-#include "sha256.h"
+#include "server/storage/sha256.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace lbsolid::cli {
+namespace lbsolid::server::storage {
 namespace {
 
 constexpr std::uint32_t kRound[64] = {
@@ -113,4 +113,4 @@ std::string sha256_file_hex(const std::string& path) {
   return hash.hex_digest();
 }
 
-}  // namespace lbsolid::cli
+}  // namespace lbsolid::server::storage

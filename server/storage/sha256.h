@@ -1,13 +1,15 @@
 #pragma once
-// SHA-256 (FIPS 180-4), written here so the CLI needs no crypto library for the checksums of the
-// files it writes (status.json). Incremental: update() any number of times, then hex_digest().
+// SHA-256 (FIPS 180-4), written here so that nothing needs a crypto library for checksums: the
+// CLI's of the files it writes (status.json), storage's of what it writes into checkpoints.
+// Incremental: update() any number of times, then digest() or hex_digest(). Its own library
+// (lbsolid_sha256) so the CLI's unit tests link it without HDF5.
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
 
-namespace lbsolid::cli {
+namespace lbsolid::server::storage {
 
 class Sha256 {
  public:
@@ -29,4 +31,4 @@ std::string sha256_hex(std::string_view data);
 // Hashes a file in blocks; throws std::runtime_error naming the path if it cannot be read.
 std::string sha256_file_hex(const std::string& path);
 
-}  // namespace lbsolid::cli
+}  // namespace lbsolid::server::storage

@@ -1,0 +1,119 @@
+#include "server/session/footprint.h"
+
+#include "server/session/session.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lbsolid::server {
+
+namespace {
+
+namespace v1 = ::lbsolid::v1;
+
+// Low enough that two saturated figures, or a daemon total plus one, still fit in a long long.
+constexpr long long kSaturated = 1LL << 60;
+
+long long saturating_product(long long a, long long b) {
+  if (a <= 0 || b <= 0) return 0;
+  return a > kSaturated / b ? kSaturated : a * b;
+}
+long long saturating_sum(long long a, long long b) { return std::min(kSaturated, a + b); }
+
+int dimension_of(v1::Lattice lattice) { return lattice == v1::LATTICE_D3Q19 ? 3 : 2; }
+
+int velocities_of(v1::Lattice lattice) {
+  switch (lattice) {
+    case v1::LATTICE_D2Q7: return 7;
+    case v1::LATTICE_D3Q19: return 19;
+    default: return 9;
+  }
+}
+
+// Particles of one body, an upper bound (a disk counts its bounding square or cube).
+long long particles_of(const v1::Body& body, int dimension) {
+  switch (body.shape()) {
+    case v1::BODY_SHAPE_RECTANGLE: {
+      long long n = 1;
+      for (int a = 0; a < std::min(body.size_size(), dimension); ++a) n = saturating_product(n, body.size(a));
+      return body.size_size() == 0 ? 0 : n;
+    }
+    case v1::BODY_SHAPE_DISK: {
+      if (!(body.radius() > 0)) return 0;
+      const double side = 2 * std::floor(std::min(body.radius(), 1e9)) + 1;
+      long long n = 1;
+      for (int a = 0; a < dimension; ++a) n = saturating_product(n, static_cast<long long>(side));
+      return n;
+    }
+    case v1::BODY_SHAPE_CHAIN: return std::max(0, body.length());
+    case v1::BODY_SHAPE_LABELS: return body.labels_size();
+    default: return 0;
+  }
+}
+
+// Bytes per particle in SolidSystem and, with a fluid, in the exchange (scene/simulation.cpp):
+// body index 4, label 12, position 24, mass 8, momentum 24, force 24, per link a neighbour index 4
+// and incoming and outgoing vectors 48; exchange: node 12, cell 8, momentum 24, chain link 4 and a
+// node record of 80. Doubled: arrays grown by push_back may hold up to twice their size.
+long long bytes_per_particle(int dimension, bool with_fluid) {
+  const int links = 2 * dimension;
+  const long long solid = 4 + 12 + 24 + 8 + 24 + 24 + links * (4 + 48);
+  const long long exchange = with_fluid ? 12 + 8 + 24 + 4 + 80 : 0;
+  return 2 * (solid + exchange);
+}
+
+// One population array (fluid/population_storage.h): the cells rounded up to 64 KiB, plus 17
+// cache lines of offset.
+long long population_array_bytes(long long cells, int value_bytes) {
+  return saturating_sum(saturating_product(cells, value_bytes), (64 << 10) + 17 * 64);
+}
+
+}  // namespace
+
+Footprint& Footprint::operator+=(const Footprint& o) {
+  cells += o.cells;
+  particles += o.particles;
+  pool_threads += o.pool_threads;
+  resident_bytes += o.resident_bytes;
+  transient_bytes += o.transient_bytes;
+  return *this;
+}
+
+Footprint& Footprint::operator-=(const Footprint& o) {
+  cells -= o.cells;
+  particles -= o.particles;
+  pool_threads -= o.pool_threads;
+  resident_bytes -= o.resident_bytes;
+  transient_bytes -= o.transient_bytes;
+  return *this;
+}
+
+Footprint estimate_footprint(const v1::Scenario& scenario) {
+  Footprint f;
+  const int dimension = dimension_of(scenario.lattice());
+  const bool with_fluid = !scenario.fluid().has_enabled() || scenario.fluid().enabled();
+  const auto& d = scenario.domain();
+  const long long nz = d.has_nz() ? d.nz() : 1;
+  if (with_fluid) f.cells = saturating_product(saturating_product(std::max(0, d.nx()), std::max(0, d.ny())), nz);
+  for (const auto& body : scenario.bodies()) f.particles = saturating_sum(f.particles, particles_of(body, dimension));
+  f.pool_threads = scenario.fluid().has_threads() ? std::max(0, scenario.fluid().threads() - 1) : 0;
+
+  const int q = velocities_of(scenario.lattice());
+  const int buffers = scenario.fluid().streaming() == v1::STREAMING_TWO_BUFFER ? 2 : 1;
+  const int value_bytes = scenario.precision() == v1::PRECISION_FLOAT ? 4 : 8;
+  const long long populations = saturating_product(buffers * q, population_array_bytes(f.cells, value_bytes));
+  const long long exchange_heads = f.particles > 0 ? saturating_product(f.cells, 4) : 0;
+  const long long solid = saturating_product(f.particles, bytes_per_particle(dimension, with_fluid));
+  f.resident_bytes = saturating_sum(saturating_sum(populations, exchange_heads), solid);
+
+  // A save copies the populations as doubles and the solid's positions, links and momenta; field
+  // reads copy density and velocity (4 doubles a node), Session::kFieldSnapshots copies at most.
+  const long long saved_fluid = saturating_product(saturating_product(f.cells, buffers * q), 8);
+  const long long saved_solid = saturating_product(f.particles, 24 + 24 * 2 * dimension + 24);
+  const long long field_read = saturating_product(f.cells, 32 * Session::kFieldSnapshots);
+  f.transient_bytes = saturating_sum(saturating_sum(saved_fluid, saved_solid), field_read);
+  return f;
+}
+
+}  // namespace lbsolid::server

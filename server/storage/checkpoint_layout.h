@@ -1,0 +1,31 @@
+#pragma once
+// The HDF5 layout of a checkpoint, format 2, with its checksums (checkpoint_checksum.h):
+//   /                   attrs format = "lbsolid-checkpoint", format_version = 2, lbsolid_version,
+//                       git_revision, session_id, session_name, request_id, done, started, target_step,
+//                       step, sha256 (of the root record)
+//   /scenario           string dataset: the scenario text, byte for byte; attr sha256
+//   /fluid              (with a fluid) attrs steps, current, pulled, stepped, buffers, cells
+//   /fluid/populations  float64 [buffers * Q * cells], exactly FluidRawState::populations; attr sha256
+//   /solid              (with bodies) positions [n][3], incoming [m][3], momentum [n][3], float64,
+//                       each with attr sha256
+// Booleans are int32 0/1. Strings are fixed-length and exact (hdf5_io.h). Objects use the HDF5 1.8
+// format, whose headers carry HDF5's own checksums.
+// Private to server/storage: no plausibility checks (checkpoint_validation.h) and no temporary
+// file (checkpoint_file.cpp) here, so tests can write files the public writer refuses.
+#include <string>
+
+#include "server/storage/checkpoint_file.h"
+
+namespace lbsolid::server::storage {
+
+// Creates (or truncates) file_path and writes the checkpoint into it, flushed and closed. Throws
+// std::runtime_error naming the object that failed.
+void write_checkpoint_layout(const std::string& file_path, const CheckpointContents& contents,
+                             const WriterInfo& writer);
+
+// Throws std::runtime_error naming what failed: not HDF5, not a checkpoint, a format version other
+// than 2, a missing or malformed object, a checksum that does not match ("dataset
+// /fluid/populations: checksum mismatch").
+CheckpointContents read_checkpoint_layout(const std::string& file_path);
+
+}  // namespace lbsolid::server::storage
