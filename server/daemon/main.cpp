@@ -8,10 +8,13 @@
 #include <grpcpp/health_check_service_interface.h>
 #include <spdlog/spdlog.h>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <csignal>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -72,6 +75,15 @@ void apply_connection_limits(grpc::ServerBuilder& builder) {
   builder.SetResourceQuota(quota);
 }
 
+// Every connection and every file being written takes a descriptor; the soft limit (often 1024)
+// is raised to the hard one so that the idle-connection timeout, not the limit, bounds them.
+void raise_descriptor_limit() {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_NOFILE, &limit) != 0 || limit.rlim_cur >= limit.rlim_max) return;
+  limit.rlim_cur = limit.rlim_max;
+  if (setrlimit(RLIMIT_NOFILE, &limit) != 0) spdlog::warn("cannot raise the open-file limit: {}", std::strerror(errno));
+}
+
 long long physical_memory_bytes() {
   return static_cast<long long>(sysconf(_SC_PHYS_PAGES)) * static_cast<long long>(sysconf(_SC_PAGE_SIZE));
 }
@@ -111,6 +123,7 @@ int main(int argc, char** argv) {
   if (limits.max_sessions < 1) return fail_start("--max_sessions: must be at least 1");
   if (limits.max_cells < 1) return fail_start("--max_cells: must be at least 1");
 
+  raise_descriptor_limit();
   // Signals are taken by one thread with sigwait: block them before any other thread starts.
   sigset_t signals;
   sigemptyset(&signals);

@@ -90,10 +90,7 @@ grpc::Status SimulationService::GetSession(grpc::ServerContext*, const v1::GetSe
 grpc::Status SimulationService::ListSessions(grpc::ServerContext*, const v1::ListSessionsRequest*,
                                              v1::ListSessionsResponse* response) {
   std::vector<v1::Session> sessions;
-  for (const auto& session : manager_.list()) {
-    sessions.push_back(session->describe());
-    sessions.back().clear_scenario();
-  }
+  for (const auto& session : manager_.list()) sessions.push_back(session->describe(/*with_scenario=*/false));
   std::stable_sort(sessions.begin(), sessions.end(),
                    [](const auto& a, const auto& b) { return a.created_unix_ms() < b.created_unix_ms(); });
   for (auto& session : sessions) *response->add_sessions() = std::move(session);

@@ -77,12 +77,12 @@ v1::SessionState Session::state() const {
   return state_;
 }
 
-v1::Session Session::describe() const {
+v1::Session Session::describe(bool with_scenario) const {
   v1::Session s;
   s.set_id(id_);
   s.set_name(scenario_.name());
   s.set_request_id(request_id_);
-  *s.mutable_scenario() = scenario_;
+  if (with_scenario) *s.mutable_scenario() = scenario_;
   for (const auto& stage : sim_->stages()) s.add_stages(stage);  // fixed at build: no lock needed
   s.set_cells(cells());
   s.set_particles(particles_);
@@ -240,11 +240,16 @@ std::unique_lock<std::mutex> Session::lock_simulation() const {
   ++readers_waiting_;
   std::unique_lock lock(sim_mutex_);
   --readers_waiting_;
+  reader_entered_.notify_all();
   return lock;
 }
 
 void Session::advance(std::chrono::milliseconds slice) {
-  if (readers_waiting_ > 0) return;  // let them in first; the session is queued again
+  if (readers_waiting_ > 0) {  // let them in first; the session is queued again
+    std::unique_lock lock(handoff_mutex_);
+    reader_entered_.wait_for(lock, std::chrono::milliseconds(5), [&] { return readers_waiting_ == 0; });
+    return;
+  }
   // A lossless client that is behind holds the run back; the wait happens here, outside the
   // simulation lock, so field reads, checkpoints, pauses and other streams go on meanwhile.
   if (has_frame_watchers_ && !wait_for_lossless_clients(slice)) return;

@@ -9,6 +9,7 @@
 // subscriber lists. Where both are taken, sim_mutex_ comes first.
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -62,7 +63,8 @@ class Session {
   const std::string& request_id() const { return request_id_; }
   const v1::Scenario& scenario() const { return scenario_; }
   long cells() const;
-  v1::Session describe() const;
+  // What GetSession answers; without the scenario (ListSessions) when with_scenario is false.
+  v1::Session describe(bool with_scenario = true) const;
   v1::SessionState state() const;
 
   // State changes, each refused with FAILED_PRECONDITION (naming the state) where it does not apply.
@@ -155,6 +157,10 @@ class Session {
   // slice would otherwise keep them waiting for many slices.
   std::unique_lock<std::mutex> lock_simulation() const;
   mutable std::atomic<int> readers_waiting_{0};
+  // A worker that gave way to readers sleeps here until they have the lock, instead of spinning
+  // through the queue (which took a third of the workers' time under 64 clients).
+  mutable std::mutex handoff_mutex_;
+  mutable std::condition_variable reader_entered_;
   mutable std::mutex sim_mutex_;
   std::unique_ptr<scene::Simulation> sim_;
 

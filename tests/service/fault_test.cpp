@@ -299,5 +299,25 @@ TEST(Faults, ASavedSessionWhoseIdIsAPathIsNotRecovered) {
   EXPECT_TRUE(fs::exists(victim / "precious"));
 }
 
+// A connection that carries no call is closed after --max_connection_idle (1,100 idle connections
+// once exhausted the daemon's file descriptors): the client's channel falls back to IDLE.
+TEST(Faults, IdleConnectionsAreClosed) {
+  const ScopedDirectory dir("lbsolid-fault-idle");
+  DaemonProcess daemon(dir.path, {"--max_connection_idle=1s"});
+  grpc::ChannelArguments args;
+  args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);  // a connection of its own
+  auto channel = grpc::CreateCustomChannel(daemon.address(), grpc::InsecureChannelCredentials(), args);
+  v1::ServerInfo info;
+  ASSERT_TRUE(v1::Simulation::NewStub(channel)->GetServerInfo(deadline_context().get(), {}, &info).ok());
+  ASSERT_EQ(channel->GetState(false), GRPC_CHANNEL_READY);
+  // The daemon's idle timer fires about a second after the call; 10 s leaves room on a loaded
+  // machine (WaitForStateChange also drives the channel's polling, which sees the GOAWAY).
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_TRUE(channel->WaitForStateChange(GRPC_CHANNEL_READY, std::chrono::system_clock::now() + 10s));
+  EXPECT_NE(channel->GetState(false), GRPC_CHANNEL_READY);
+  std::cout << "idle connection closed after " << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
+            << " s\n";
+}
+
 }  // namespace
 }  // namespace lbsolid::testing
