@@ -20,7 +20,7 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPOSITORY / "client-examples" / "python"))
 
-from lbsolid_client import Client, LocalDaemon, SessionFailed, load_scenario  # noqa: E402
+from lbsolid_client import Client, LocalDaemon, SessionFailed, load_scenario, retryable  # noqa: E402
 
 SCENARIO = Path(__file__).resolve().parent / "python_small_scenario.textproto"
 REFERENCE = Path(os.environ.get("LBSOLID_REFERENCE", REPOSITORY / "build" / "tests" / "lbsolid-reference"))
@@ -154,6 +154,18 @@ class PythonClientMatchesCore(unittest.TestCase):
             self.client.create(scenario)
         self.assertEqual(caught.exception.code(), grpc.StatusCode.INVALID_ARGUMENT)
         self.assertIn("scenario.fluid.omega", caught.exception.details())
+        self.assertFalse(retryable(caught.exception))
+
+    def test_a_request_over_the_message_limit_is_not_retryable(self):
+        # gRPC refuses it as RESOURCE_EXHAUSTED, a code that is otherwise worth a retry; this one
+        # fails the same way every time, so an orchestrator must not retry it.
+        import grpc
+        scenario = load_scenario(SCENARIO)
+        scenario.name = "x" * (5 << 20)
+        with self.assertRaises(grpc.RpcError) as caught:
+            self.client.create(scenario)
+        self.assertEqual(caught.exception.code(), grpc.StatusCode.RESOURCE_EXHAUSTED)
+        self.assertFalse(retryable(caught.exception), caught.exception.details())
 
 
 if __name__ == "__main__":
