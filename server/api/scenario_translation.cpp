@@ -12,6 +12,7 @@
 
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
+#include <google/protobuf/unknown_field_set.h>
 #include <google/protobuf/util/json_util.h>
 
 #include <algorithm>
@@ -476,9 +477,34 @@ bool parse_json(const std::string& text, v1::Scenario* scenario, std::string* er
 
 }  // namespace
 
+// Fields this daemon does not know (a binary request from a newer client) would be ignored, and
+// they cannot be written in the text form a checkpoint stores the scenario in: refused, by path.
+static void report_unknown_fields(const pb::Message& message, const std::string& path, Problems& problems) {
+  const pb::Reflection* reflection = message.GetReflection();
+  const pb::UnknownFieldSet& unknown = reflection->GetUnknownFields(message);
+  for (int k = 0; k < unknown.field_count(); ++k)
+    problems.push_back({path, "field number " + std::to_string(unknown.field(k).number()) + " is not a field of " +
+                                  message.GetDescriptor()->full_name() +
+                                  " that this daemon knows (a newer client?); refused rather than ignored"});
+  std::vector<const pb::FieldDescriptor*> fields;
+  reflection->ListFields(message, &fields);
+  for (const pb::FieldDescriptor* field : fields) {
+    if (field->cpp_type() != pb::FieldDescriptor::CPPTYPE_MESSAGE) continue;
+    const std::string field_path = path + "." + field->name();
+    if (!field->is_repeated()) {
+      report_unknown_fields(reflection->GetMessage(message, field), field_path, problems);
+      continue;
+    }
+    for (int i = 0; i < reflection->FieldSize(message, field); ++i)
+      report_unknown_fields(reflection->GetRepeatedMessage(message, field, i),
+                            field_path + "[" + std::to_string(i) + "]", problems);
+  }
+}
+
 TranslatedScenario translate_scenario(const lbsolid::v1::Scenario& in) {
   TranslatedScenario out;
   Problems problems;
+  report_unknown_fields(in, "scenario", problems);
   check_name(in.name(), "scenario.name", problems);
   const std::optional<scene::LatticeKind> lattice = lattice_of(in.lattice());
   out.scene.lattice = enum_or_report(lattice, in.lattice(), v1::Lattice_descriptor(), "scenario.lattice", problems);

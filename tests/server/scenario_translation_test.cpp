@@ -58,6 +58,20 @@ std::string channel_with(const std::string& more) { return kChannel + more; }
 
 // ---- Defaults.
 
+// A binary request may carry fields this build does not know (a newer client): ignored, they would
+// change nothing the client expects, and they cannot be written in the text form a checkpoint
+// stores, so that checkpoint would never restore (found by fuzz_scenario_binary and fuzz_service).
+TEST(ScenarioTranslation, UnknownFieldsAreRefusedByPath) {
+  v1::Scenario scenario = parse(channel_with("bodies { shape: BODY_SHAPE_DISK radius: 2 centre { x: 8 y: 4 } }"));
+  ASSERT_TRUE(translate_scenario(scenario).ok());
+  scenario.GetReflection()->MutableUnknownFields(&scenario)->AddVarint(12, 7);
+  auto* body = scenario.mutable_bodies(0);
+  body->GetReflection()->MutableUnknownFields(body)->AddFixed64(40, 1);
+  const auto errors = translate_scenario(scenario).errors;
+  EXPECT_ERROR(errors, "scenario: field number 12 is not a field of lbsolid.v1.Scenario");
+  EXPECT_ERROR(errors, "scenario.bodies[0]: field number 40 is not a field of lbsolid.v1.Body");
+}
+
 TEST(ScenarioTranslation, AbsentFieldsTakeTheDocumentedDefaults) {
   const TranslatedScenario t = translate_scenario(parse("domain { nx: 8 ny: 6 }"));
   ASSERT_TRUE(t.ok()) << listed(t.errors);
