@@ -1,7 +1,7 @@
 // lbsolid-load: the loopback load benchmark of the daemon (tests/service/load_driver.h). Starts a
 // private lbsolidd, runs background sessions alone and then beside N clients, and prints the
 // control calls' p50/p99 latency and the sessions' steps/s without and with the load.
-//   lbsolid-load [--clients 64] [--seconds 10] [--sessions 2]
+//   lbsolid-load [--clients 64] [--seconds 10] [--sessions 2] [--think-ms 0]
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -18,8 +18,9 @@ int main(int argc, char** argv) {
     if (flag == "--clients") options.clients = std::stoi(argv[k + 1]);
     else if (flag == "--seconds") options.seconds = std::stod(argv[k + 1]);
     else if (flag == "--sessions") options.background_sessions = std::stoi(argv[k + 1]);
+    else if (flag == "--think-ms") options.think_ms = std::stod(argv[k + 1]);
     else {
-      std::cerr << "usage: lbsolid-load [--clients N] [--seconds S] [--sessions N]\n";
+      std::cerr << "usage: lbsolid-load [--clients N] [--seconds S] [--sessions N] [--think-ms T]\n";
       return 2;
     }
   }

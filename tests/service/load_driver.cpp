@@ -85,11 +85,12 @@ void timed(Tally& tally, const std::string& rpc, Call&& call) {
 // One client: its own session to step and read, a background session to watch; a fixed cycle of
 // calls until `until`.
 void client_loop(const std::string& address, const std::string& background, int index, Clock::time_point until,
-                 Tally& tally) {
+                 double think_ms, Tally& tally) {
   auto stub = v1::Simulation::NewStub(own_connection(address));
   v1::Session own;
   tally.call("CreateSession", create_session(*stub, small_channel_with_disk(24, 12), &own));
   for (long round = 0; Clock::now() < until; ++round) {
+    if (think_ms > 0) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(think_ms));
     switch ((round + index) % 6) {
       case 0:
         timed(tally, "GetSession", [&](grpc::ClientContext* c) {
@@ -174,7 +175,8 @@ LoadReport run_load(const DaemonProcess& daemon, const LoadOptions& options) {
   const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.seconds));
   std::vector<std::thread> clients;
   for (int c = 0; c < options.clients; ++c)
-    clients.emplace_back(client_loop, daemon.address(), background[c % background.size()], c, until, std::ref(tally));
+    clients.emplace_back(client_loop, daemon.address(), background[c % background.size()], c, until, options.think_ms,
+                         std::ref(tally));
   // The rate under load over the middle of the load, once every client is connected.
   std::this_thread::sleep_for(std::chrono::duration<double>(0.2 * options.seconds));
   const double loaded = rate_over(*stub, background, 0.6 * options.seconds);
@@ -194,7 +196,8 @@ LoadReport run_load(const DaemonProcess& daemon, const LoadOptions& options) {
 
 std::string describe(const LoadReport& r, const LoadOptions& o) {
   std::ostringstream out;
-  out << o.clients << " clients for " << o.seconds << " s beside " << o.background_sessions << " running "
+  out << o.clients << " clients (" << o.think_ms << " ms between calls) for " << o.seconds << " s beside "
+      << o.background_sessions << " running "
       << o.background_nx << " x " << o.background_ny << " sessions\n"
       << "  calls " << r.calls << ", errors " << r.errors << "\n"
       << "  control calls " << r.control_calls << ": p50 " << r.p50_ms << " ms, p99 " << r.p99_ms << " ms, max "

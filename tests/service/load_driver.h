@@ -16,6 +16,10 @@ struct LoadOptions {
   double seconds = 5;           // of load (the same again is measured without it first)
   int background_sessions = 2;  // long runs whose rate is measured
   int background_nx = 192, background_ny = 96;
+  // Each client's pause between two calls: 0 is a closed loop that takes all the CPU it can get
+  // (the clients share this machine's cores with the daemon); more is a client that does
+  // something else between calls, as an orchestrator does.
+  double think_ms = 0;
 };
 
 struct LoadReport {
