@@ -37,7 +37,8 @@ inline Scene coupled_scene(LatticeKind lattice, Precision precision,
 
 template <class T>
 bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+  // memcmp with the null data() of an empty vector is undefined (UBSan), even for zero bytes.
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 // Bitwise equality of everything a run changes.

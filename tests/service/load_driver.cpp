@@ -86,7 +86,16 @@ void timed(Tally& tally, const std::string& rpc, Call&& call) {
 // calls until `until`.
 void client_loop(const std::string& address, const std::string& background, int index, Clock::time_point until,
                  double think_ms, Tally& tally) {
-  auto stub = v1::Simulation::NewStub(own_connection(address));
+  // Connected before the first call: with 64 connections opened at once, a few connection attempts
+  // fail on loopback now and then (errno ENOENT, seen with 0 errors on calls otherwise), and gRPC
+  // retries them after a backoff; a call made meanwhile fails fast. A client that cannot connect
+  // within 10 s counts as an error.
+  const auto channel = own_connection(address);
+  if (!channel->WaitForConnected(std::chrono::system_clock::now() + std::chrono::seconds(10))) {
+    tally.call("connect", grpc::Status(grpc::StatusCode::UNAVAILABLE, "no connection within 10 s"));
+    return;
+  }
+  auto stub = v1::Simulation::NewStub(channel);
   v1::Session own;
   tally.call("CreateSession", create_session(*stub, small_channel_with_disk(24, 12), &own));
   for (long round = 0; Clock::now() < until; ++round) {
