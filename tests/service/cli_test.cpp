@@ -46,10 +46,10 @@ bodies { name: "disk" shape: BODY_SHAPE_DISK radius: 2 centre { x: 8 y: 6 } load
 
 class Cli : public ::testing::Test {
  protected:
-  Cli() : dir_(fresh_directory("lbsolid-cli")), daemon_(dir_ + "/data") {}
-  ~Cli() override { fs::remove_all(dir_); }
+  Cli() : scoped_("lbsolid-cli"), dir_(scoped_.path), daemon_(dir_ + "/data") {}
   std::string server() const { return "--server " + daemon_.address() + " "; }
-  std::string dir_;
+  ScopedDirectory scoped_;  // declared first: removed after the daemon has exited
+  const std::string& dir_;
   DaemonProcess daemon_;
 };
 

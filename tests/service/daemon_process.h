@@ -5,6 +5,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,6 +48,19 @@ class DaemonProcess {
 
 // A fresh empty directory under the system temporary directory.
 std::string fresh_directory(const std::string& stem);
+
+// A fresh data directory, removed with everything in it at the end of its scope. Declare it before
+// the DaemonProcess that uses it, so the daemon is gone first.
+struct ScopedDirectory {
+  explicit ScopedDirectory(const std::string& stem) : path(fresh_directory(stem)) {}
+  ~ScopedDirectory() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+  ScopedDirectory(const ScopedDirectory&) = delete;
+  ScopedDirectory& operator=(const ScopedDirectory&) = delete;
+  const std::string path;
+};
 
 // A context whose deadline is `seconds` away.
 std::unique_ptr<grpc::ClientContext> deadline_context(double seconds = 10);

@@ -54,19 +54,6 @@ inline lbsolid::v1::Scenario diverging_box(double force = 0.01, int nx = 32, int
 
 // ---- RPC helpers ---------------------------------------------------------------------------
 
-// A fresh data directory, removed with everything in it at the end of its scope. Declare it before
-// the DaemonProcess that uses it, so the daemon is gone first.
-struct ScopedDirectory {
-  explicit ScopedDirectory(const std::string& stem) : path(fresh_directory(stem)) {}
-  ~ScopedDirectory() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path, ignored);
-  }
-  ScopedDirectory(const ScopedDirectory&) = delete;
-  ScopedDirectory& operator=(const ScopedDirectory&) = delete;
-  const std::string path;
-};
-
 // A stub on its own connection whose HTTP/2 receive window is as small as gRPC allows (no BDP
 // probing, a 1-byte stream lookahead): the transport then holds about one frame in flight, so the
 // frames a client has read and those the daemon has handed to gRPC differ by at most that one. With
