@@ -272,10 +272,14 @@ void FluidLattice<L, T>::add_momentum(int x, int y, int z, const Vec3& dp) {
 
 template <class L, class T>
 std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
-  // slot() for every direction, with the row plan looked up once (the coupling calls this per
-  // particle per step).
+  // The row plan looked up once for all directions (the coupling calls this per particle per step).
+  return gather_in_row(plans_.for_row(y, z), x, cell(x, y, z));
+}
+
+template <class L, class T>
+std::array<T, L::Q> FluidLattice<L, T>::gather_in_row(const RowPlan<T, L::Q>& plan, int x, long c) const {
+  // slot() for every direction.
   const T* f = storage_.buffer(in_place() ? 0 : current_);
-  const long c = cell(x, y, z);
   const long stride = storage_.stride();
   std::array<T, Q> g;
   if (in_place() && !pulled_) {
@@ -283,7 +287,7 @@ std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
     return g;
   }
   constexpr auto opp = lattice::opposite_table<L>();
-  const auto& sources = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)];
+  const auto& sources = plan.sources[RowPlans<L, T>::part_of(x, config_.nx)];
   for (int i = 0; i < Q; ++i) {
     const auto& s = sources[i];
     const int stored_as = in_place() ? opp[s.dir] : s.dir;
@@ -293,17 +297,54 @@ std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
 }
 
 template <class L, class T>
-Moments FluidLattice<L, T>::moments(int x, int y, int z) const {
-  const auto g = gather(x, y, z);
+inline Moments FluidLattice<L, T>::moments_of(const std::array<T, L::Q>& g, const RowPlan<T, L::Q>& plan) const {
   double drho = 0, j[3] = {0, 0, 0};
   for (int i = 0; i < Q; ++i) {
     drho += g[i];
     for (int a = 0; a < 3; ++a) j[a] += L::c[i][a] * static_cast<double>(g[i]);
   }
   Moments m{config_.rho0 + drho, {0, 0, 0}};
-  const auto& force = plans_.for_row(y, z).force;
-  for (int a = 0; a < 3; ++a) m.u[a] = (j[a] + (has_force_ ? 0.5 * force[a] : 0.0)) / m.rho;
+  for (int a = 0; a < 3; ++a) m.u[a] = (j[a] + (has_force_ ? 0.5 * plan.force[a] : 0.0)) / m.rho;
   return m;
+}
+
+template <class L, class T>
+Moments FluidLattice<L, T>::moments(int x, int y, int z) const {
+  const auto& plan = plans_.for_row(y, z);
+  return moments_of(gather_in_row(plan, x, cell(x, y, z)), plan);
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::add_row_velocity_x(int y, int z, double& sum) const {
+  const auto& plan = plans_.for_row(y, z);
+  const int nx = config_.nx;
+  const long c0 = cell(0, y, z);
+  sum += moments_of(gather_in_row(plan, 0, c0), plan).u[0];
+  if (nx > 2) {
+    // The interior nodes share one set of sources: where each population lies, as an offset
+    // from the node, and what to add to it (gather_in_row() for one node, here for the row).
+    const T* f = storage_.buffer(in_place() ? 0 : current_);
+    const long stride = storage_.stride();
+    const bool plain = in_place() && !pulled_;
+    constexpr auto opp = lattice::opposite_table<L>();
+    std::array<const T*, Q> from;
+    std::array<T, Q> correction{};
+    for (int i = 0; i < Q; ++i) {
+      const auto& source = plan.sources[1][i];
+      from[i] = plain ? f + i * stride + c0
+                      : f + (in_place() ? opp[source.dir] : source.dir) * stride + c0 + source.delta;
+      if (!plain) correction[i] = source.correction;
+    }
+    std::array<T, Q> g;
+    for (int x = 1; x < nx - 1; ++x) {
+      if (plain)
+        for (int i = 0; i < Q; ++i) g[i] = from[i][x];
+      else
+        for (int i = 0; i < Q; ++i) g[i] = from[i][x] + correction[i];
+      sum += moments_of(g, plan).u[0];
+    }
+  }
+  if (nx > 1) sum += moments_of(gather_in_row(plan, nx - 1, c0 + nx - 1), plan).u[0];
 }
 
 template <class L, class T>

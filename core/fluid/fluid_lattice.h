@@ -76,6 +76,10 @@ class FluidLattice {
   Moments moments(int x, int y, int z = 0) const;
   double density(int x, int y, int z = 0) const { return moments(x, y, z).rho; }
   Vec3 velocity(int x, int y, int z = 0) const { return moments(x, y, z).u; }
+  // Adds u_x of each node of row (y, z) to `sum`, x ascending: the values velocity(x, y, z)[0]
+  // gives, in the same order, with the row's plan looked up once (a velocity profile streamed
+  // every few steps of a run then costs a fraction of a step instead of several).
+  void add_row_velocity_x(int y, int z, double& sum) const;
   std::array<double, L::Q> populations(int x, int y, int z = 0) const;  // f_i at time t
   double total_mass() const;
   Vec3 total_momentum() const;  // sum over nodes of sum_i f_i c_i
@@ -92,6 +96,8 @@ class FluidLattice {
   };
   Slot slot(int i, int x, int y, int z) const;
   std::array<T, L::Q> gather(int x, int y, int z) const;  // shifted populations at time t
+  std::array<T, L::Q> gather_in_row(const RowPlan<T, L::Q>& plan, int x, long cell) const;
+  Moments moments_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
   void check_in_place_slots() const;
   // One step's fused kernels with the given collision policy (bgk_collision.h and siblings).
   template <class Collision>

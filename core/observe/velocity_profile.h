@@ -5,14 +5,13 @@
 
 namespace lbsolid::observe {
 
-// `Fluid` is a FluidLattice (config() and velocity(x, y, z)).
+// `Fluid` is a FluidLattice (config() and add_row_velocity_x(y, z, sum)).
 template <class Fluid>
 std::vector<double> velocity_profile(const Fluid& fluid) {
   const auto& c = fluid.config();
   std::vector<double> profile(c.ny, 0.0);
   for (int y = 0; y < c.ny; ++y) {
-    for (int z = 0; z < c.nz; ++z)
-      for (int x = 0; x < c.nx; ++x) profile[y] += fluid.velocity(x, y, z)[0];
+    for (int z = 0; z < c.nz; ++z) fluid.add_row_velocity_x(y, z, profile[y]);
     profile[y] /= static_cast<double>(c.nx) * c.nz;
   }
   return profile;
