@@ -10,6 +10,7 @@
 // read (a client wanting a tight bound keeps that window small; see the README).
 // The worker publishes; the stream handler takes frames until the channel is closed (the session
 // ended) or the client goes away (detach: the worker stops waiting for it).
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -27,11 +28,22 @@ class FrameChannel {
       : delivery_(delivery), every_(every), capacity_(capacity) {}
 
   long every() const { return every_; }
-  bool due(long step) const { return step % every_ == 0; }
+  bool due(long step) const { return first_frame_wanted_ || step % every_ == 0; }
+
+  // A client that joins a running session gets its first frame from the worker, at the next step
+  // boundary (or when the session pauses), instead of stopping the run to read the state.
+  void want_first_frame() { first_frame_wanted_ = true; }
+  bool first_frame_wanted() const { return first_frame_wanted_; }
+  // True once the first frame is published (or the stream has ended) within `timeout`.
+  bool wait_for_first_frame(std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    return ready_.wait_for(lock, timeout, [&] { return !first_frame_wanted_ || closed_ || detached_; });
+  }
 
   // Worker side: queues the frame (latest mode: in place of an unread one). Never waits.
   void publish(Frame frame) {
     std::lock_guard lock(mutex_);
+    first_frame_wanted_ = false;
     if (detached_ || closed_) return;
     if (delivery_ == Delivery::kLatestFrame && !queue_.empty()) {
       queue_.clear();
@@ -102,6 +114,7 @@ class FrameChannel {
   std::condition_variable ready_, room_;
   std::deque<Frame> queue_;
   long skipped_ = 0;
+  std::atomic<bool> first_frame_wanted_{false};
   bool closed_ = false;
   bool detached_ = false;
 };

@@ -16,6 +16,11 @@ namespace lbsolid::server {
 
 namespace {
 
+// How long a client joining a running session waits for the worker to publish its first frame
+// before reading it itself (which stops the run for a moment): many slices' worth of steps of a
+// session of ordinary size.
+constexpr auto kFirstFrameWait = std::chrono::milliseconds(50);
+
 long long unix_ms_now() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
@@ -145,15 +150,21 @@ absl::Status Session::stop_at_step_boundary(const char* what, v1::SessionState n
   ++stop_requests_;  // a Step call lets go at its next step boundary; a worker ends its slice
   const auto sim_lock = lock_simulation();
   --stop_requests_;
-  std::lock_guard lock(mutex_);
-  if (!allowed(state_)) return wrong_state(what, state_);  // it changed meanwhile (DONE, FAILED)
-  set_state_locked(next);
+  {
+    std::lock_guard lock(mutex_);
+    if (!allowed(state_)) return wrong_state(what, state_);  // it changed meanwhile (DONE, FAILED)
+    set_state_locked(next);
+  }
+  // Clients that joined the run since its last step still wait for their first frame: the state
+  // where it stopped (a cancelled session has closed its streams).
+  if (has_frame_watchers_) publish_first_frames();
   return absl::OkStatus();
 }
 
 void Session::set_state_locked(v1::SessionState next, const std::string& message) {
   const auto previous = state_;
   state_ = next;
+  runnable_ = !closed_ && next == v1::SESSION_STATE_RUNNING;
   message_ = message;
   spdlog::info("session {}: {} -> {} at step {}{}{}", id_, v1::SessionState_Name(previous), v1::SessionState_Name(next),
                step_.load(), message.empty() ? "" : ": ", message.empty() ? "" : log_text(message, 500));
@@ -178,12 +189,29 @@ void Session::close_streams_locked() {
   event_watchers_.clear();
   profile_watchers_.clear();
   particle_watchers_.clear();
-  has_frame_watchers_ = false;
+  refresh_watch_flags_locked();
+}
+
+void Session::refresh_watch_flags_locked() {
+  has_frame_watchers_ = !profile_watchers_.empty() || !particle_watchers_.empty();
+  bool lossless = false;
+  long next = std::numeric_limits<long>::max();
+  const long step = step_;
+  const auto consider = [&](const auto& w) {
+    lossless = lossless || w.lossless();
+    // Due at the next multiple of `every` after this step, or now for a first frame.
+    next = std::min(next, w.first_frame_wanted() ? 0 : (step / w.every() + 1) * w.every());
+  };
+  for (const auto& w : profile_watchers_) consider(*w);
+  for (const auto& w : particle_watchers_) consider(*w.channel);
+  has_lossless_watchers_ = lossless;
+  next_frame_step_ = next;
 }
 
 void Session::close() {
   std::lock_guard lock(mutex_);  // a Step call sees closed_ at its next step boundary
   closed_ = true;
+  runnable_ = false;
   if (state_ == v1::SESSION_STATE_RUNNING) set_state_locked(v1::SESSION_STATE_CANCELLED);
   close_streams_locked();
 }
@@ -232,7 +260,7 @@ bool Session::step_once() {
   }
   step_ = sim_->step_count();
   refresh_sizes();
-  if (has_frame_watchers_) publish_frames(step_);
+  if (has_frame_watchers_ && step_ >= next_frame_step_) publish_frames(step_);
   return true;
 }
 
@@ -256,11 +284,9 @@ void Session::advance(std::chrono::milliseconds slice) {
   std::lock_guard sim_lock(sim_mutex_);
   const auto start = Clock::now();
   long taken = 0;
-  while (true) {
-    {
-      std::lock_guard lock(mutex_);
-      if (!wants_work_locked()) break;
-    }
+  // The checks between steps read atomics only: the session's mutex is shared with the calls,
+  // whose threads run at a lower priority, and one preempted while holding it would stall the run.
+  while (runnable_ && step_ < target_) {
     if (!step_once()) return;
     ++taken;
     if (Clock::now() - start >= slice || readers_waiting_ > 0) break;
@@ -308,7 +334,7 @@ absl::StatusOr<StepResult> Session::step_now(long steps, std::chrono::system_clo
   std::lock_guard lock(mutex_);
   stepping_ = false;
   if (!is_final(state_) && result.steps_taken > 0) {
-    target_ = std::max(target_, static_cast<long>(step_));
+    target_ = std::max(target_.load(), step_.load());
     if (state_ != v1::SESSION_STATE_PAUSED) set_state_locked(v1::SESSION_STATE_PAUSED);
   }
   return result;
@@ -389,28 +415,36 @@ v1::ParticleFrame Session::particle_frame(const std::vector<int>& bodies) const 
   return frame;
 }
 
-void Session::publish_frames(long step) {
+void Session::publish_frames(long step) { publish_frames_if([step](const auto& w) { return w.due(step); }); }
+
+void Session::publish_first_frames() {
+  publish_frames_if([](const auto& w) { return w.first_frame_wanted(); });
+}
+
+template <class Wanted>
+void Session::publish_frames_if(const Wanted& wanted) {
   std::vector<std::shared_ptr<FrameChannel<v1::ProfileFrame>>> profiles;
   std::vector<ParticleWatch> particles;
   {
     std::lock_guard lock(mutex_);
     std::erase_if(profile_watchers_, [](const auto& w) { return w->detached(); });
     std::erase_if(particle_watchers_, [](const auto& w) { return w.channel->detached(); });
-    has_frame_watchers_ = !profile_watchers_.empty() || !particle_watchers_.empty();
     for (const auto& w : profile_watchers_)
-      if (w->due(step)) profiles.push_back(w);
+      if (wanted(*w)) profiles.push_back(w);
     for (const auto& w : particle_watchers_)
-      if (w.channel->due(step)) particles.push_back(w);
+      if (wanted(*w.channel)) particles.push_back(w);
   }
   if (!profiles.empty()) {
     const auto frame = profile_frame();  // computed once for every due client
     for (const auto& w : profiles) w->publish(frame);
   }
   for (const auto& w : particles) w.channel->publish(particle_frame(w.bodies));
+  std::lock_guard lock(mutex_);
+  refresh_watch_flags_locked();
 }
 
 bool Session::lossless_watcher_behind() const {
-  if (!has_frame_watchers_) return false;
+  if (!has_lossless_watchers_) return false;
   std::lock_guard lock(mutex_);
   for (const auto& w : profile_watchers_)
     if (w->full()) return true;
@@ -455,10 +489,29 @@ std::shared_ptr<EventChannel> Session::watch_events(std::chrono::milliseconds pr
   return channel;
 }
 
+template <class Frame, class Register>
+bool Session::join_running(const std::shared_ptr<FrameChannel<Frame>>& channel, const Register& register_watcher) {
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_ || state_ != v1::SESSION_STATE_RUNNING) return false;
+    channel->want_first_frame();
+    register_watcher();
+    refresh_watch_flags_locked();
+  }
+  // The worker publishes it after its next step. A run that does not move (held back by a
+  // lossless client, or with steps longer than this wait) has it read here, between two steps.
+  if (!channel->wait_for_first_frame(kFirstFrameWait)) {
+    const auto sim_lock = lock_simulation();
+    publish_first_frames();
+  }
+  return true;
+}
+
 absl::StatusOr<std::shared_ptr<FrameChannel<v1::ProfileFrame>>> Session::watch_profiles(long every,
                                                                                         Delivery delivery) {
   if (!sim_->has_fluid()) return absl::FailedPreconditionError("WatchProfiles: the scenario has no fluid");
   auto channel = std::make_shared<FrameChannel<v1::ProfileFrame>>(delivery, every);
+  if (join_running(channel, [&] { profile_watchers_.push_back(channel); })) return channel;
   const auto sim_lock = lock_simulation();  // between two steps: the first frame is the current state
   channel->publish(profile_frame());
   std::lock_guard lock(mutex_);
@@ -466,7 +519,7 @@ absl::StatusOr<std::shared_ptr<FrameChannel<v1::ProfileFrame>>> Session::watch_p
     channel->close();
   } else {
     profile_watchers_.push_back(channel);
-    has_frame_watchers_ = true;
+    refresh_watch_flags_locked();
   }
   return channel;
 }
@@ -488,6 +541,7 @@ absl::StatusOr<std::shared_ptr<FrameChannel<v1::ParticleFrame>>> Session::watch_
     bodies.push_back(static_cast<int>(it - known.begin()));
   }
   auto channel = std::make_shared<FrameChannel<v1::ParticleFrame>>(delivery, every);
+  if (join_running(channel, [&] { particle_watchers_.push_back({channel, bodies}); })) return channel;
   const auto sim_lock = lock_simulation();
   channel->publish(particle_frame(bodies));
   std::lock_guard lock(mutex_);
@@ -495,7 +549,7 @@ absl::StatusOr<std::shared_ptr<FrameChannel<v1::ParticleFrame>>> Session::watch_
     channel->close();
   } else {
     particle_watchers_.push_back({channel, bodies});
-    has_frame_watchers_ = true;
+    refresh_watch_flags_locked();
   }
   return channel;
 }
@@ -543,6 +597,7 @@ void Session::restore(const scene::SimulationState& state, long target_step, v1:
   step_ = sim_->step_count();
   target_ = target_step;
   state_ = session_state;
+  runnable_ = !closed_ && session_state == v1::SESSION_STATE_RUNNING;
 }
 
 }  // namespace lbsolid::server

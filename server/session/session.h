@@ -132,10 +132,18 @@ class Session {
   void set_state_locked(v1::SessionState next, const std::string& message = {});
   void emit_locked(v1::SessionEvent event);
   void close_streams_locked();
+  void refresh_watch_flags_locked();
   // One step with what follows it: frames to due watchers, the stability check. False if the
   // session failed.
   bool step_once();
-  void publish_frames(long step);
+  void publish_frames(long step);  // to the watchers due at `step`; under the simulation lock
+  void publish_first_frames();     // to the watchers still waiting for their first frame; idem
+  template <class Wanted>
+  void publish_frames_if(const Wanted& wanted);
+  // Registers a watcher of a running session, whose first frame the worker will publish; false
+  // (nothing done) if the session is not running.
+  template <class Frame, class Register>
+  bool join_running(const std::shared_ptr<FrameChannel<Frame>>& channel, const Register& register_watcher);
   // True while a lossless watcher is `capacity` frames behind.
   bool lossless_watcher_behind() const;
   // Waits until every lossless watcher has room, or `timeout`; true if all have room.
@@ -181,14 +189,18 @@ class Session {
   bool stepping_ = false;  // a Step call holds the simulation
   std::string message_;
   std::atomic<long> step_{0};
-  long target_ = 0;
+  std::atomic<long> target_{0};  // written under mutex_ while the session does not run
   bool scheduled_ = false;
   bool closed_ = false;
   double steps_per_second_ = 0;
   std::vector<std::shared_ptr<EventChannel>> event_watchers_;
   std::vector<std::shared_ptr<FrameChannel<v1::ProfileFrame>>> profile_watchers_;
   std::vector<ParticleWatch> particle_watchers_;
+  // Read by the worker between steps without mutex_ (refresh_watch_flags_locked() keeps them):
+  std::atomic<bool> runnable_{false};  // RUNNING and not closed
   std::atomic<bool> has_frame_watchers_{false};
+  std::atomic<bool> has_lossless_watchers_{false};
+  std::atomic<long> next_frame_step_{0};  // no frame is due before this step
 };
 
 }  // namespace lbsolid::server
