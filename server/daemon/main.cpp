@@ -28,6 +28,7 @@
 #include "absl/time/time.h"
 #include "server/service/simulation_service.h"
 #include "server/session/session_manager.h"
+#include "server/session/thread_priority.h"
 #include "server/storage/file_replace.h"
 #include "server/version.h"
 
@@ -47,6 +48,9 @@ ABSL_FLAG(absl::Duration, autosave_interval, absl::Minutes(2),
           "wall time between automatic saves of every session that changed (a crash loses at most this); 0 "
           "turns them off");
 ABSL_FLAG(int, max_call_threads, 256, "threads serving calls at once; further calls get RESOURCE_EXHAUSTED");
+ABSL_FLAG(int, call_nice, 10,
+          "nice levels below the simulation workers at which calls are answered (0-19; 0: the same priority), "
+          "so that a crowd of clients slows the calls rather than the runs");
 ABSL_FLAG(absl::Duration, max_connection_idle, absl::Minutes(5), "a connection without calls this long is closed");
 ABSL_FLAG(std::string, port_file, "", "if set, the port actually bound is written there (for tests and scripts)");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn or error");
@@ -118,6 +122,8 @@ int main(int argc, char** argv) {
   limits.autosave_interval = absl::ToChronoMilliseconds(autosave);
   if (limits.workers < 1) return fail_start("--workers: must be at least 1");
   if (absl::GetFlag(FLAGS_max_call_threads) < 8) return fail_start("--max_call_threads: must be at least 8");
+  if (absl::GetFlag(FLAGS_call_nice) < 0 || absl::GetFlag(FLAGS_call_nice) > 19)
+    return fail_start("--call_nice: must lie in [0, 19]");
   if (absl::GetFlag(FLAGS_max_connection_idle) < absl::Seconds(1))
     return fail_start("--max_connection_idle: must be at least 1s");
   if (limits.max_sessions < 1) return fail_start("--max_sessions: must be at least 1");
@@ -140,6 +146,10 @@ int main(int argc, char** argv) {
     return fail_start(std::string("--data_dir: ") + e.what());
   }
   const int recovered = manager->recover();
+  // The workers, the autosave and the session builder have started at the base priority; every
+  // thread from here on (gRPC's, and so every call) starts from this one, below it.
+  if (const int error = lbsolid::server::lower_this_thread_priority(absl::GetFlag(FLAGS_call_nice)); error != 0)
+    spdlog::warn("--call_nice: cannot lower the priority of the call threads: {}", std::strerror(error));
 
   lbsolid::server::SimulationService service(*manager);
   grpc::EnableDefaultHealthCheckService(true);

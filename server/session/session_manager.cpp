@@ -131,7 +131,10 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::add(const v1::Scenario&
   }
   absl::StatusOr<std::shared_ptr<Session>> session = absl::InternalError("not built");
   try {
-    session = build({new_session_id(), request_id, scenario, translate_scenario(scenario), unix_ms_now()});
+    // Translated and validated here, at the caller's priority; built (allocated, initialised,
+    // its kernel threads started) on the builder.
+    SessionSetup setup{new_session_id(), request_id, scenario, translate_scenario(scenario), unix_ms_now()};
+    session = builder_.run([&] { return build(std::move(setup)); });
     if (session.ok())
       if (auto prepared = prepare(**session); !prepared.ok()) session = prepared;
   } catch (const std::bad_alloc&) {

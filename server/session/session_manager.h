@@ -21,6 +21,7 @@
 
 #include "absl/status/statusor.h"
 #include "server/session/footprint.h"
+#include "server/session/serial_executor.h"
 #include "server/session/session.h"
 #include "server/session/session_store.h"
 
@@ -117,6 +118,9 @@ class SessionManager {
   // What each session's last save held (step, target, state): unchanged sessions are not saved again.
   std::map<std::string, std::tuple<long, long, int>> saved_;
   std::thread autosaver_;
+
+  // Started with the manager, so at the daemon's base priority: see SerialExecutor.
+  SerialExecutor builder_;
 };
 
 }  // namespace lbsolid::server

@@ -35,6 +35,7 @@ class DaemonProcess {
   // Sends `signal` and waits for the exit; returns the exit code (128 + signal if killed by one).
   int stop(int signal);
   bool running() const { return pid_ > 0; }
+  int pid() const { return pid_; }
   const std::string& address() const { return address_; }
   std::unique_ptr<v1::Simulation::Stub> stub() const;
   std::shared_ptr<grpc::Channel> channel() const { return channel_; }

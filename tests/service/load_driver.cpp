@@ -1,5 +1,7 @@
 #include "service/load_driver.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -7,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "service/proc_threads.h"
 #include "service/test_scenarios.h"
 
 namespace lbsolid::testing {
@@ -165,6 +168,32 @@ void client_loop(const std::string& address, const std::string& background, int 
   tally.call("DeleteSession", stub->DeleteSession(deadline_context().get(), r, &s));
 }
 
+// CPU seconds used so far by the daemon's threads at its base priority (the lowest nice value
+// among them: these threads live as long as the daemon or their session), by the rest of the
+// daemon (the call threads, which gRPC starts and ends as calls come: counted from the process's
+// total, which keeps the time of ended threads), and by this process.
+struct CpuSplit {
+  double daemon_base = 0, daemon_calls = 0, clients = 0;
+  CpuSplit operator-(const CpuSplit& o) const {
+    return {daemon_base - o.daemon_base, daemon_calls - o.daemon_calls, clients - o.clients};
+  }
+};
+
+CpuSplit cpu_split(int daemon_pid) {
+  const auto threads = thread_stats(daemon_pid);
+  int base = 19;
+  for (const auto& t : threads) base = std::min(base, t.nice);
+  CpuSplit split;
+  for (const auto& t : threads)
+    if (t.nice == base) split.daemon_base += t.cpu_seconds;
+  split.daemon_calls = process_cpu_seconds(daemon_pid) - split.daemon_base;
+  rusage self{};
+  getrusage(RUSAGE_SELF, &self);
+  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+  split.clients = seconds(self.ru_utime) + seconds(self.ru_stime);
+  return split;
+}
+
 }  // namespace
 
 LoadReport run_load(const DaemonProcess& daemon, const LoadOptions& options) {
@@ -188,7 +217,11 @@ LoadReport run_load(const DaemonProcess& daemon, const LoadOptions& options) {
                          std::ref(tally));
   // The rate under load over the middle of the load, once every client is connected.
   std::this_thread::sleep_for(std::chrono::duration<double>(0.2 * options.seconds));
+  const CpuSplit before = cpu_split(daemon.pid());
+  const auto start = Clock::now();
   const double loaded = rate_over(*stub, background, 0.6 * options.seconds);
+  const CpuSplit used = cpu_split(daemon.pid()) - before;
+  const double window = std::chrono::duration<double>(Clock::now() - start).count();
   for (auto& t : clients) t.join();
 
   for (const auto& id : background) {
@@ -200,6 +233,9 @@ LoadReport run_load(const DaemonProcess& daemon, const LoadOptions& options) {
   LoadReport report = tally.finish();
   report.steps_per_second_alone = alone;
   report.steps_per_second_loaded = loaded;
+  report.daemon_base_cores = used.daemon_base / window;
+  report.daemon_call_cores = used.daemon_calls / window;
+  report.client_cores = used.clients / window;
   return report;
 }
 
@@ -212,7 +248,9 @@ std::string describe(const LoadReport& r, const LoadOptions& o) {
       << "  control calls " << r.control_calls << ": p50 " << r.p50_ms << " ms, p99 " << r.p99_ms << " ms, max "
       << r.max_ms << " ms\n"
       << "  background steps/s: alone " << r.steps_per_second_alone << ", under load " << r.steps_per_second_loaded
-      << " (" << 100.0 * r.steps_per_second_loaded / std::max(1e-9, r.steps_per_second_alone) << "%)\n";
+      << " (" << 100.0 * r.steps_per_second_loaded / std::max(1e-9, r.steps_per_second_alone) << "%)\n"
+      << "  CPU under load (cores): daemon simulation threads " << r.daemon_base_cores << ", daemon call threads "
+      << r.daemon_call_cores << ", clients " << r.client_cores << "\n";
   for (const auto& e : r.error_samples) out << "  error: " << e << "\n";
   return out.str();
 }

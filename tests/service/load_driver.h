@@ -30,6 +30,10 @@ struct LoadReport {
   long control_calls = 0;
   double steps_per_second_alone = 0;   // background sessions together, no clients
   double steps_per_second_loaded = 0;  // the same, under the load
+  // Where the CPU went while the loaded rate was measured, in cores (CPU seconds per second):
+  // the daemon's threads at its base priority (workers, kernel threads, autosave, builder), its
+  // other threads (gRPC's, answering the calls: --call_nice lower), and this process's clients.
+  double daemon_base_cores = 0, daemon_call_cores = 0, client_cores = 0;
 };
 
 // The daemon needs room for clients + background sessions (--max_sessions).
