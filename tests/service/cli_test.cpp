@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -91,6 +93,33 @@ stability { check_interval: 10 max_mach: 0.3 }
   const auto r = cli(server() + "--json submit " + diverging + " --steps 1000 --wait");
   EXPECT_EQ(r.exit_code, 1) << r.out;
   EXPECT_NE(r.out.find("Mach number"), std::string::npos) << r.out;
+}
+
+// The value printed after `label` in a summary.txt line (lbsolid-drag-summary); NaN if absent.
+double summary_value(const std::string& summary, const std::string& label) {
+  const auto at = summary.find(label);
+  if (at == std::string::npos) return std::nan("");
+  return std::strtod(summary.c_str() + at + label.size(), nullptr);
+}
+
+// The main job (deploy/run.sh): the Fig. 5 scenario file for the steps it names, through the CLI
+// and lbsolid-drag-summary. The README quotes its figures (u_inf = 1.950e-3, a = 6.51e-4 per step,
+// R^2 = 0.9976, Re = 0.265, c_d = 30.5): each must hold to the digits quoted, half a unit of the
+// last one. This is a check that the README tells what the job gives, not of the physics (the
+// drag's size against an independent reference: tests/physics/periodic_array_drag_test.cpp).
+TEST_F(Cli, MainJobGivesTheFiguresTheReadmeQuotes) {
+  const auto out = dir_ + "/main-job";
+  const auto r = cli(server() + "submit " + LBSOLID_MAIN_SCENARIO + " --steps 15000 --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  ASSERT_EQ(std::system((std::string(LBSOLID_DRAG_SUMMARY_PATH) + " " + out + " > /dev/null").c_str()), 0);
+  std::stringstream summary;
+  summary << std::ifstream(out + "/summary.txt").rdbuf();
+  const std::string text = summary.str();
+  EXPECT_NEAR(summary_value(text, "terminal velocity u_inf"), 1.950e-3, 0.0005e-3) << text;
+  EXPECT_NEAR(summary_value(text, "rate a"), 6.51e-4, 0.005e-4) << text;
+  EXPECT_NEAR(summary_value(text, "R^2"), 0.9976, 0.00005) << text;
+  EXPECT_NEAR(summary_value(text, "Re = u_inf D / nu"), 0.265, 0.0005) << text;
+  EXPECT_NEAR(summary_value(text, "c_d = F / (rho0 u_inf^2 D)"), 30.5, 0.05) << text;
 }
 
 TEST_F(Cli, UnreachableDaemonExitsThree) {
