@@ -174,12 +174,19 @@ void print_set_up(const char* orientation) {
               first_fit_row(), last_fit_row());
 }
 
+// Both the free gradient and the parallel chains' deviation are held by what is left of the
+// start-up transient in the 10k-40k-step time average: tau/T e^(-10000/tau), with
+// tau = H^2/(pi^2 nu) = 973 steps, is about 1.1e-6 (measured 1.27e-6 free); parallel chains relax
+// more slowly (tau x 1.08, their added mass, Fig. 7), which predicts about -1.5e-6 (measured
+// -1.25e-6). Bound: 2x the measured values.
+constexpr double kTransientBound = 2.5e-6;
+
 TEST(ChainsFig6, FreeFluidGradientIsSigmaOverRhoNu) {
   const double error = free_fluid_fit().slope / analytic_gradient() - 1.0;
   std::printf("[ figure   ] free gradient %.6e, analytic sigma/(rho nu) %.6e\n", free_fluid_fit().slope,
               analytic_gradient());
-  report("free gradient relative error", std::abs(error), 0.01);
-  EXPECT_NEAR(error, 0.0, 0.01);
+  report("free gradient relative error", std::abs(error), kTransientBound);
+  EXPECT_NEAR(error, 0.0, kTransientBound);
 }
 
 TEST(ChainsFig6, PerpendicularChainsRaiseTheApparentViscosity) {
@@ -205,8 +212,8 @@ TEST(ChainsFig6, ParallelChainsLeaveTheGradientUnchanged) {
   const observe::LineFit chains = measure(s);
   const double deviation = chains.slope / free_fluid_fit().slope - 1.0;
   std::printf("[ figure   ] gradient free %.6e, with parallel chains %.6e\n", free_fluid_fit().slope, chains.slope);
-  report("parallel-chain gradient relative deviation from free", std::abs(deviation), 0.02);
-  EXPECT_NEAR(deviation, 0.0, 0.02);
+  report("parallel-chain gradient relative deviation from free", std::abs(deviation), kTransientBound);
+  EXPECT_NEAR(deviation, 0.0, kTransientBound);
 }
 
 }  // namespace
