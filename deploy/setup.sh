@@ -22,5 +22,5 @@ else
   echo "setup: all Debian packages present"
 fi
 
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DLBSOLID_REQUIRE_ALL_TESTS=ON
 cmake --build build --parallel "$(nproc)"

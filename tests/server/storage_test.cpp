@@ -1,12 +1,19 @@
 // HDF5 storage: checkpoints continue a run bit for bit through a file and are replaced atomically;
 // field snapshots hold [z][y][x] data with an XDMF index ParaView reads; H5MD files have the H5MD
 // 1.1 structure, read back exactly, and appear under their final name only when closed.
+#include <fcntl.h>
+#include <grp.h>
 #include <gtest/gtest.h>
+#include <linux/capability.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -290,6 +297,125 @@ TEST(CheckpointFile, FailedWriteLeavesTheExistingCheckpointIntact) {
   EXPECT_EQ(file_bytes(path), before);
   EXPECT_EQ(read_checkpoint(path).state.step, 0);
   EXPECT_EQ(dir.entries().size(), 1u);
+}
+
+// In a child process (it cannot be undone), gives up what lets root write into any directory:
+// becomes nobody (uid and gid 65534, no supplementary groups) when running as root and `dir` and
+// its parents let others through; then clears every capability (a no-op after that setuid). Where
+// nobody cannot be taken (a user namespace that maps no uid 65534) or could not reach `dir`, this
+// leaves uid 0 without capabilities: without CAP_DAC_OVERRIDE root is held to the mode bits like
+// any user. Returns how the process now runs, or "" and sets `error`.
+std::string drop_write_privileges(const fs::path& dir, std::string& error) {
+  bool others_reach = true;
+  for (fs::path p = dir; !p.empty() && p != p.root_path(); p = p.parent_path()) {
+    struct stat st {};
+    if (::stat(p.c_str(), &st) != 0 || (st.st_mode & S_IXOTH) == 0) others_reach = false;
+  }
+  std::string how = "uid " + std::to_string(::geteuid());
+  if (::geteuid() == 0 && others_reach && ::setgroups(0, nullptr) == 0 && ::setgid(65534) == 0 &&
+      ::setuid(65534) == 0)
+    how = "uid 65534 (nobody)";
+  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct none[_LINUX_CAPABILITY_U32S_3] = {};
+  if (::syscall(SYS_capset, &header, none) != 0) {
+    error = std::string("capset: ") + std::strerror(errno);
+    return "";
+  }
+  return how + " without capabilities";
+}
+
+// A directory the writer may not write into: the write fails naming the path and the reason, and
+// the checkpoint already there is kept as it was. CI runs as root, whom a directory's mode does not
+// stop, so the write is made in a child process that first gives that privilege up
+// (drop_write_privileges) and checks that it can read the checkpoint but not create a file beside
+// it (a child that could is a failure of this test, never a skip); the child sends what the write
+// threw through a pipe and ends with _Exit (no HDF5 shutdown, no gtest in the child). The
+// simulation is destroyed before fork: no thread but this one.
+TEST(CheckpointFile, UnwritableDirectoryKeepsTheExistingCheckpoint) {
+  TempDir dir;
+  const fs::path sub = fs::path(dir.file("sub"));
+  const std::string path = (sub / "c.h5").string();
+  fs::create_directory(sub);
+  CheckpointContents later;
+  {
+    auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));
+    write_checkpoint(path, contents_of(*simulation), kWriter);
+    simulation->run(5);
+    later = contents_of(*simulation);
+  }
+  const std::string before = file_bytes(path);
+  using fs::perms;
+  fs::permissions(sub.parent_path(), perms::owner_all | perms::group_read | perms::group_exec |
+                                         perms::others_read | perms::others_exec);
+  // The checkpoint itself stays writable for the writer (as for a user who owns it in a directory
+  // made read-only): a writer that wrote it in place, the directory refusing its temporary file,
+  // would damage it and fail below.
+  fs::permissions(path, perms::owner_read | perms::owner_write | perms::group_read | perms::group_write |
+                            perms::others_read | perms::others_write);
+  const perms read_only = perms::owner_read | perms::owner_exec | perms::group_read | perms::group_exec |
+                          perms::others_read | perms::others_exec;
+  fs::permissions(sub, read_only);
+
+  int channel[2];
+  ASSERT_EQ(::pipe(channel), 0) << std::strerror(errno);
+  std::fflush(nullptr);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0) << std::strerror(errno);
+  if (child == 0) {
+    ::close(channel[0]);
+    const auto report = [&](int code, const std::string& text) {
+      for (std::size_t done = 0; done < text.size();) {
+        const ssize_t n = ::write(channel[1], text.data() + done, text.size() - done);
+        if (n <= 0) break;
+        done += static_cast<std::size_t>(n);
+      }
+      std::_Exit(code);
+    };
+    std::string error;
+    const std::string how = drop_write_privileges(sub, error);
+    if (how.empty()) report(2, "cannot give up the privilege to write anywhere: " + error);
+    if (::access(path.c_str(), R_OK) != 0)
+      report(2, how + ": cannot read " + path + ": " + std::strerror(errno));
+    const std::string probe = (sub / "probe").string();
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd >= 0) {
+      ::close(fd);
+      ::unlink(probe.c_str());
+      report(2, how + ": " + sub.string() + " is still writable");
+    }
+    try {
+      write_checkpoint(path, later, kWriter);
+    } catch (const std::exception& e) {
+      report(0, how + "\n" + e.what());
+    }
+    report(1, how + "\n(nothing thrown)");
+  }
+  ::close(channel[1]);
+  std::string received;
+  char buffer[4096];
+  for (ssize_t n; (n = ::read(channel[0], buffer, sizeof buffer)) != 0;) {
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) break;
+    received.append(buffer, static_cast<std::size_t>(n));
+  }
+  ::close(channel[0]);
+  int status = 0;
+  while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  }
+  fs::permissions(sub, perms::owner_all, fs::perm_options::add);
+  ASSERT_TRUE(WIFEXITED(status)) << "the writer did not exit (status " << status << "): " << received;
+  ASSERT_NE(WEXITSTATUS(status), 2) << "the test could not make the directory unwritable: " << received;
+  const std::string how = received.substr(0, received.find('\n'));
+  const std::string message = received.substr(std::min(received.size(), how.size() + 1));
+  std::printf("[ writer   ] %s\n", how.c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "writing into an unwritable directory succeeded";
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_NE(message.find("Permission denied"), std::string::npos) << message;
+  EXPECT_TRUE(file_bytes(path) == before) << "the existing checkpoint was changed";
+  EXPECT_EQ(read_checkpoint(path).state.step, 0);
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(sub)) left.push_back(entry.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"c.h5"});
 }
 
 // While alive, files of this process cannot grow beyond `bytes` (a full disk, as the file system
