@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli_error.h"
+#include "server/api/enum_mapping.h"
 #include "server/api/scenario_translation.h"
 
 namespace lbsolid::cli {
@@ -36,7 +37,8 @@ bool has_fluid(const lbsolid::v1::Scenario& s) { return !s.fluid().has_enabled()
 int dimension(const lbsolid::v1::Scenario& s) { return s.lattice() == lbsolid::v1::LATTICE_D3Q19 ? 3 : 2; }
 
 std::array<double, 3> node_spacing(const lbsolid::v1::Scenario& s) {
-  return {1.0, s.lattice() == lbsolid::v1::LATTICE_D2Q7 ? std::sqrt(3.0) / 2 : 1.0, 1.0};
+  const auto lattice = lbsolid::server::lattice_of(s.lattice());
+  return {1.0, lattice ? lbsolid::scene::lattice_row_spacing(*lattice) : 1.0, 1.0};
 }
 
 std::array<double, 3> box_edges(const lbsolid::v1::Scenario& s) {

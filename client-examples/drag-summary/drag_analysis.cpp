@@ -25,7 +25,7 @@ DragSetup drag_setup(const lbsolid::v1::Scenario& scenario) {
   setup.dimension = scene::lattice_dimension(s.lattice);
   setup.omega = s.fluid.omega;
   setup.rho0 = s.fluid.rho0;
-  setup.cs2 = s.lattice == scene::LatticeKind::kD2Q7 ? 0.25 : 1.0 / 3.0;
+  setup.cs2 = scene::lattice_cs2(s.lattice);
   for (std::size_t i = 0; i < s.bodies.size(); ++i) {
     const solid::BodySpec& body = s.bodies[i];
     if (body.shape != solid::BodyShape::kDisk) continue;

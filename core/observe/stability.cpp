@@ -9,10 +9,6 @@ namespace lbsolid::observe {
 
 namespace {
 
-double sound_speed_squared(scene::LatticeKind lattice) {
-  return lattice == scene::LatticeKind::kD2Q7 ? 0.25 : 1.0 / 3.0;
-}
-
 bool finite(const fluid::Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 std::string node_name(long cell, const std::array<int, 3>& shape) {
@@ -26,7 +22,7 @@ std::string check_fluid(const scene::Simulation& simulation, const StabilityLimi
   const auto& c = simulation.scene().fluid;
   const std::array<int, 3> shape{c.nx, c.ny, c.nz};
   const long cells = static_cast<long>(c.nx) * c.ny * c.nz;
-  const double cs = std::sqrt(sound_speed_squared(simulation.scene().lattice));
+  const double cs = std::sqrt(scene::lattice_cs2(simulation.scene().lattice));
   const double rho0 = c.rho0;
   const double low = limits.min_density * rho0, high = limits.max_density * rho0;
   // One pass over blocks of nodes (never a copy of the whole field): a non-finite value ends it at

@@ -32,8 +32,17 @@ bool valid_lattice(LatticeKind l) {
   return l == LatticeKind::kD2Q9 || l == LatticeKind::kD2Q7 || l == LatticeKind::kD3Q19;
 }
 
-double axis_spacing(const Scene& scene, int axis) {
-  return scene.lattice == LatticeKind::kD2Q7 && axis == 1 ? std::sqrt(3.0) / 2.0 : 1.0;
+double axis_spacing(const Scene& scene, int axis) { return axis == 1 ? lattice_row_spacing(scene.lattice) : 1.0; }
+
+// fn(descriptor) for the scene's lattice.
+template <class Fn>
+double with_descriptor(LatticeKind kind, Fn fn) {
+  switch (kind) {
+    case LatticeKind::kD2Q7: return fn(lattice::D2Q7{});
+    case LatticeKind::kD3Q19: return fn(lattice::D3Q19{});
+    case LatticeKind::kD2Q9: break;
+  }
+  return fn(lattice::D2Q9{});
 }
 
 std::string format_position(const solid::Vec3& r, int dimension) {
@@ -52,27 +61,12 @@ std::string number(double v) {
   return buffer;
 }
 
-// Where SolidSystem::add_body places the labels: centroid at spec.centre, `spacing` apart.
-std::vector<solid::Vec3> initial_positions(const solid::BodySpec& spec, const std::vector<solid::Label>& labels) {
-  solid::Vec3 centroid{0, 0, 0};
-  for (const auto& l : labels)
-    for (int a = 0; a < 3; ++a) centroid[a] += l[a] / static_cast<double>(labels.size());
-  std::vector<solid::Vec3> positions;
-  positions.reserve(labels.size());
-  for (const auto& l : labels) {
-    solid::Vec3 r;
-    for (int a = 0; a < 3; ++a) r[a] = spec.centre[a] + spec.spacing * (l[a] - centroid[a]);
-    positions.push_back(r);
-  }
-  return positions;
-}
-
 // Every particle of the body must start at a finite position inside the box, on the fluid's side
 // of every wall. A finite spacing times a long extent can still overflow to infinity.
 void check_placement(const Scene& scene, const solid::BodySpec& spec, const std::string& prefix,
                      std::vector<std::string>& errors) {
   const int dimension = lattice_dimension(scene.lattice);
-  for (const auto& r : initial_positions(spec, solid::body_labels(spec, dimension))) {
+  for (const auto& r : solid::placed_positions(solid::body_labels(spec, dimension), spec.centre, spec.spacing)) {
     if (!std::isfinite(r[0]) || !std::isfinite(r[1]) || !std::isfinite(r[2])) {
       errors.push_back(prefix + ".spacing: " + number(spec.spacing) +
                        " times the body's extent puts particles at non-finite positions");
@@ -92,7 +86,7 @@ void check_placement(const Scene& scene, const solid::BodySpec& spec, const std:
   }
 }
 
-double sound_speed(LatticeKind lattice) { return lattice == LatticeKind::kD2Q7 ? 0.5 : std::sqrt(1.0 / 3.0); }
+double sound_speed(LatticeKind lattice) { return std::sqrt(lattice_cs2(lattice)); }
 
 double mach(const Scene& scene, const solid::Vec3& u) {
   return std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) / sound_speed(scene.lattice);
@@ -147,24 +141,6 @@ std::vector<long> nearest_cells(const Scene& scene, const std::vector<solid::Vec
   return {};
 }
 
-// M_l = K_l / 2 (MODEL.md section 2): half the number of the label's existing links.
-std::vector<double> particle_masses(const std::vector<solid::Label>& labels, int dimension) {
-  const std::set<solid::Label> present(labels.begin(), labels.end());
-  const solid::SolidTopology topology{dimension};
-  std::vector<double> masses;
-  masses.reserve(labels.size());
-  for (const auto& l : labels) {
-    double m = 0;
-    for (int k = 0; k < topology.links(); ++k) {
-      solid::Label n = l;
-      for (int a = 0; a < 3; ++a) n[a] += topology.link(k)[a];
-      if (present.count(n)) m += 0.5;
-    }
-    masses.push_back(m);
-  }
-  return masses;
-}
-
 // The pairwise rule (eq. 14 per particle) moves a node holding particles p by sum_p Z_p / rho0 of
 // each velocity difference and particle p by Z_p / M_p, Z_p = 1 / (1/rho0 + 1/M_p). Once the two
 // together reach 2 the exchange at that node over-corrects by more than the difference it corrects:
@@ -178,8 +154,8 @@ std::pair<double, int> pairwise_overcorrection(const Scene& scene) {
   std::map<long, int> count;
   for (const auto& spec : scene.bodies) {
     const auto labels = solid::body_labels(spec, dimension);
-    const auto masses = particle_masses(labels, dimension);
-    const auto cells = nearest_cells(scene, initial_positions(spec, labels));
+    const auto masses = solid::link_masses(labels, solid::SolidTopology{dimension});
+    const auto cells = nearest_cells(scene, solid::placed_positions(labels, spec.centre, spec.spacing));
     for (std::size_t p = 0; p < labels.size(); ++p) {
       const double z = 1.0 / (1.0 / scene.fluid.rho0 + 1.0 / masses[p]);
       auto& node = at[cells[p]];
@@ -235,9 +211,26 @@ void check_unique_names(const Scene& scene, std::vector<std::string>& errors) {
 
 }  // namespace
 
+double lattice_cs2(LatticeKind lattice) {
+  return with_descriptor(lattice, [](auto descriptor) { return decltype(descriptor)::cs2; });
+}
+
+double lattice_row_spacing(LatticeKind lattice) {
+  return with_descriptor(lattice, [](auto descriptor) {
+    using L = decltype(descriptor);
+    if constexpr (L::hexagonal) return L::row_spacing;
+    return 1.0;
+  });
+}
+
 double wall_position(const Scene& scene, int side) {
   const int axis = side / 2;
   const int n[3] = {scene.fluid.nx, scene.fluid.ny, scene.fluid.nz};
+  // D2Q7 x sides: rows alternate between nodes at 0 .. nx - 1 and 1/2 .. nx - 1/2, so the wall is a
+  // zig-zag; the links it cuts at a slant (the only ones carrying momentum along it) are cut
+  // half-way at -1/4 and nx - 1/4, the mean of all its cut points too. A Poiseuille flow along y
+  // sees the walls there (tests/fluid/d2q7_x_walls_test.cpp).
+  if (scene.lattice == LatticeKind::kD2Q7 && axis == 0) return side % 2 == 0 ? -0.25 : n[0] - 0.25;
   const double spacing = axis_spacing(scene, axis);
   return side % 2 == 0 ? -0.5 * spacing : (n[axis] - 0.5) * spacing;
 }
@@ -323,8 +316,8 @@ double body_mass_ratio(const Scene& scene, std::size_t b) {
   const auto labels = solid::body_labels(spec, dimension);
   if (labels.empty()) return 0;
   double mass = 0;
-  for (double m : particle_masses(labels, dimension)) mass += m;
-  const auto cells = nearest_cells(scene, initial_positions(spec, labels));
+  for (double m : solid::link_masses(labels, solid::SolidTopology{dimension})) mass += m;
+  const auto cells = nearest_cells(scene, solid::placed_positions(labels, spec.centre, spec.spacing));
   const auto nodes = std::set<long>(cells.begin(), cells.end()).size();
   return mass / static_cast<double>(nodes) / scene.fluid.rho0;
 }

@@ -63,8 +63,17 @@ std::vector<std::string> scene_warnings(const Scene& scene);
 // spacing 1 gives 2 / rho0; packing s particles per node multiplies it by s.
 double body_mass_ratio(const Scene& scene, std::size_t b);
 
-// Where the walls of each side stand, in lattice units (half-way between the last node and the
-// next: -1/2 and n - 1/2 along square axes; D2Q7 rows are sqrt(3)/2 apart).
+// A lattice's constants, from its descriptor (lattice/d2q9.h, d2q7.h, d3q19.h): c_s^2, and the
+// distance between rows along y (1; sqrt(3)/2 on the hexagonal D2Q7).
+double lattice_cs2(LatticeKind lattice);
+double lattice_row_spacing(LatticeKind lattice);
+
+// Where the walls of each side stand, in lattice units: half-way between the last node and the
+// next, -1/2 and n - 1/2 along square axes; the D2Q7 y sides likewise, with rows sqrt(3)/2 apart.
+// The D2Q7 x sides stand at -1/4 and nx - 1/4: odd rows are shifted right by half a cell, so the
+// wall is a zig-zag whose slanted links are cut there (a flow along y sees them there, less
+// 1/(16 nx) from the zig-zag: tests/fluid/d2q7_x_walls_test.cpp). Wall contact and body placement
+// use these positions.
 double wall_position(const Scene& scene, int side);
 
 }  // namespace lbsolid::scene

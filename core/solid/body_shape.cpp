@@ -16,6 +16,35 @@ const char* body_shape_name(BodyShape shape) {
   return "?";
 }
 
+std::vector<Vec3> placed_positions(const std::vector<Label>& labels, const Vec3& centre, double spacing) {
+  Vec3 centroid{0, 0, 0};
+  for (const auto& l : labels)
+    for (int a = 0; a < 3; ++a) centroid[a] += l[a] / static_cast<double>(labels.size());
+  std::vector<Vec3> positions;
+  positions.reserve(labels.size());
+  for (const auto& l : labels) {
+    Vec3 r;
+    for (int a = 0; a < 3; ++a) r[a] = centre[a] + spacing * (l[a] - centroid[a]);
+    positions.push_back(r);
+  }
+  return positions;
+}
+
+std::vector<double> link_masses(const std::vector<Label>& labels, const SolidTopology& topology) {
+  const std::set<Label> present(labels.begin(), labels.end());
+  std::vector<double> masses;
+  masses.reserve(labels.size());
+  for (const auto& l : labels) {
+    int links = 0;
+    for (int k = 0; k < topology.links(); ++k) {
+      const Label c = topology.link(k);
+      links += present.count({l[0] + c[0], l[1] + c[1], l[2] + c[2]}) > 0;
+    }
+    masses.push_back(0.5 * links);
+  }
+  return masses;
+}
+
 std::vector<Label> body_labels(const BodySpec& spec, int dimension) {
   std::vector<Label> labels;
   switch (spec.shape) {

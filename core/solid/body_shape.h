@@ -34,6 +34,14 @@ struct BodySpec {
 // The labels of a shape, in a fixed order (x fastest). Empty if the shape's size is not positive.
 std::vector<Label> body_labels(const BodySpec& spec, int dimension);
 
+// Where a body's particles start (MODEL.md section 2): the labels' centroid at `centre`, linked
+// labels `spacing` apart, i.e. centre + spacing (l - centroid).
+std::vector<Vec3> placed_positions(const std::vector<Label>& labels, const Vec3& centre, double spacing);
+
+// Each particle's mass M_l = K_l / 2: half the number of its links that reach another label of
+// the set (MODEL.md section 2).
+std::vector<double> link_masses(const std::vector<Label>& labels, const SolidTopology& topology);
+
 // "<prefix>.<field>: <reason>" for every problem with the spec alone (not its placement).
 std::vector<std::string> validate_body_spec(const BodySpec& spec, int dimension, const std::string& prefix);
 

@@ -1,7 +1,10 @@
 #include "solid/solid_system.h"
 
+#include <algorithm>
 #include <map>
 #include <stdexcept>
+
+#include "solid/body_shape.h"
 
 namespace lbsolid::solid {
 
@@ -15,31 +18,26 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
   const int first = particle_count();
   const int n = static_cast<int>(labels.size());
   std::map<Label, int> index;
-  Vec3 centroid{0, 0, 0};
-  for (int q = 0; q < n; ++q) {
+  for (int q = 0; q < n; ++q)
     if (!index.emplace(labels[q], first + q).second)
       throw std::invalid_argument("labels: a label appears twice in body '" + name + "'");
-    for (int a = 0; a < 3; ++a) centroid[a] += labels[q][a] / static_cast<double>(n);
-  }
+  const auto masses = link_masses(labels, topology_);
+  if (std::find(masses.begin(), masses.end(), 0.0) != masses.end())
+    throw std::invalid_argument("labels: a particle of body '" + name + "' has no neighbour (M = K/2 = 0)");
+  const auto positions = placed_positions(labels, centre, spacing);
   const int body = body_count();
   bodies_.push_back({name, first, n, spacing, load});
   for (int q = 0; q < n; ++q) {
     const Label& l = labels[q];
     body_index_.push_back(body);
     labels_.push_back(l);
-    Vec3 r;
-    for (int a = 0; a < 3; ++a) r[a] = centre[a] + spacing * (l[a] - centroid[a]);
-    positions_.push_back(r);
-    int links = 0;
+    positions_.push_back(positions[q]);
+    mass_.push_back(masses[q]);
     for (int k = 0; k < links_; ++k) {
       const Label c = topology_.link(k);
       const auto it = index.find({l[0] + c[0], l[1] + c[1], l[2] + c[2]});
       neighbours_.push_back(it == index.end() ? -1 : it->second);
-      links += it != index.end();
     }
-    if (links == 0)
-      throw std::invalid_argument("labels: a particle of body '" + name + "' has no neighbour (M = K/2 = 0)");
-    mass_.push_back(0.5 * links);
   }
   // A rigid motion: every existing incoming link carries velocity/2. Link k arrives from l - c_k,
   // which exists exactly when link opp(k) of l does.

@@ -34,10 +34,6 @@ v1::Vector3 to_proto(const fluid::Vec3& v) {
   return out;
 }
 
-double row_spacing(scene::LatticeKind lattice) {
-  return lattice == scene::LatticeKind::kD2Q7 ? std::sqrt(3.0) / 2 : 1.0;
-}
-
 absl::Status wrong_state(const std::string& what, v1::SessionState state) {
   return absl::FailedPreconditionError(
       absl::StrCat(what, ": not allowed while the session is ", v1::SessionState_Name(state)));
@@ -380,7 +376,7 @@ v1::ProfileFrame Session::profile_frame() const {
   v1::ProfileFrame frame;
   frame.set_step(sim_->step_count());
   const auto u = sim_->velocity_profile();
-  const double dy = row_spacing(sim_->scene().lattice);
+  const double dy = scene::lattice_row_spacing(sim_->scene().lattice);
   for (std::size_t y = 0; y < u.size(); ++y) {
     frame.add_y(static_cast<double>(y) * dy);
     frame.add_u_x(u[y]);
@@ -569,7 +565,7 @@ absl::StatusOr<std::shared_ptr<const FieldData>> Session::fields() const {
     data->step = sim_->step_count();
     data->fields = sim_->fluid_fields();
   }
-  data->spacing = {1.0, row_spacing(sim_->scene().lattice), 1.0};
+  data->spacing = {1.0, scene::lattice_row_spacing(sim_->scene().lattice), 1.0};
   snapshots_.push_back(data);
   return std::shared_ptr<const FieldData>(std::move(data));
 }

@@ -35,7 +35,9 @@ Scene bouncing_sheet(double restitution, int dimension = 2) {
 // MODEL.md's rules, evaluated here from the particles' state before a step (no fluid, no load, so
 // the contact force is the only force): a particle whose free move r + Psi/M would cross a wall
 // gets F = -(1 + e) Psi_n n. Returns the body's total contact impulse this step, and whether any
-// particle is in contact. The walls are the box's half-way walls, -1/2 and n - 1/2 (spacing 1).
+// particle is in contact. The walls are the box's half-way walls, -1/2 and n - 1/2 (spacing 1):
+// these tests run D2Q9 and D3Q19 only (D2Q7's x walls stand at -1/4 and nx - 1/4, its rows
+// sqrt(3)/2 apart; scene::wall_position).
 struct PredictedContact {
   Vec3 impulse{0, 0, 0};
   bool any = false;

@@ -1,7 +1,8 @@
 """Lattice geometry the figure scripts share, written out as the daemon's core has it.
 
 D2Q7 (core/lattice/d2q7.h): node (x, y) sits at (x + (y mod 2)/2, y sqrt(3)/2), c_s^2 = 1/4.
-D2Q9: node (x, y) at (x, y), c_s^2 = 1/3. Walls lie half-way between nodes (core/scene/scene.cpp).
+D2Q9: node (x, y) at (x, y), c_s^2 = 1/3. Walls lie half-way between nodes, except D2Q7's x walls,
+at -1/4 and nx - 1/4 (scene::wall_position in core/scene/scene.cpp says why).
 The nearest node is the one a solid particle exchanges momentum with (core/coupling/node_locator.h).
 Import it after figure_common, which puts lbsolid_client on the path.
 """
@@ -34,9 +35,12 @@ def row_spacing(scenario) -> float:
 
 
 def walls(scenario):
-    """(x low, x high, y low, y high): each wall half a spacing beyond the outermost node."""
+    """(x low, x high, y low, y high), as scene::wall_position places them: half a spacing beyond
+    the outermost node, but on D2Q7 the x walls cut the slanted links of the zig-zag rows
+    half-way, at -1/4 and nx - 1/4."""
     d, dy = scenario.domain, row_spacing(scenario)
-    return -0.5, d.nx - 0.5, -0.5 * dy, (d.ny - 0.5) * dy
+    x_margin = 0.25 if is_d2q7(scenario) else 0.5
+    return -x_margin, d.nx - x_margin, -0.5 * dy, (d.ny - 0.5) * dy
 
 
 def periodic_axes(scenario):
