@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdlib>
 #include <map>
 #include <stdexcept>
@@ -170,13 +171,16 @@ H5mdWriter::H5mdWriter(const std::string& path, const std::string& creator_versi
     throw std::invalid_argument("H5MD file " + path + ": box dimension " + std::to_string(box.dimension) +
                                 " is not 2 or 3");
   impl_->path = path;
-  impl_->partial = path + ".partial";
+  // A name of this writer's own, created exclusively: two writers of one path (two runs recording
+  // into one directory) never write into the same file; the last to close gives the path its file.
+  static std::atomic<long> writers{0};
+  impl_->partial = path + ".partial-" + std::to_string(::getpid()) + "-" + std::to_string(writers++);
   impl_->box = box;
   h5::with_context(impl_->context(), [&] {
     try {
       const h5::PropertyList creation = h5::file_creation();
       const h5::PropertyList access = h5::file_access_v18();
-      impl_->file = h5::File(h5::check(H5Fcreate(impl_->partial.c_str(), H5F_ACC_TRUNC, creation.get(), access.get()),
+      impl_->file = h5::File(h5::check(H5Fcreate(impl_->partial.c_str(), H5F_ACC_EXCL, creation.get(), access.get()),
                                        "cannot create " + impl_->partial));
       impl_->write_header(creator_version, scenario_text);
     } catch (...) {
@@ -192,7 +196,7 @@ H5mdWriter::~H5mdWriter() {
   try {
     close();
   } catch (...) {
-    // A destructor must not throw; the data stays in <path>.partial.
+    // A destructor must not throw; the data stays in <path>.partial-<pid>-<n>.
   }
 }
 

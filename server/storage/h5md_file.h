@@ -9,8 +9,9 @@
 //   /observables/velocity_profile/{step, time, value [frame][ny]}; /observables/velocity_profile_y [ny]
 //   /parameters                 attr scenario (protobuf text of the lbsolid.v1.Scenario)
 // step and time are per-series datasets (time = step: lattice time). Series grow by one frame per
-// append (chunked, unlimited first dimension). The file is written as <path>.partial and renamed to
-// <path> by close(), so an interrupted writer never leaves a half file under the final name.
+// append (chunked, unlimited first dimension). The file is written as <path>.partial-<pid>-<n>, a
+// name of this writer's own, and renamed to <path> by close(), so an interrupted writer never
+// leaves a half file under the final name, and two writers of one path never share a file.
 #include <array>
 #include <memory>
 #include <string>
@@ -41,7 +42,7 @@ class H5mdWriter {
                    const std::array<double, 3>& velocity);
   void append_profile(long step, const std::vector<double>& y, const std::vector<double>& u_x);
   void flush();
-  void close();  // flushes, closes and renames <path>.partial to <path>
+  void close();  // flushes, closes and renames its .partial-<pid>-<n> file to <path>
 
  private:
   struct Impl;

@@ -745,7 +745,7 @@ TEST(H5mdFile, SeriesReadBackExactly) {
     H5mdWriter writer(path, "0.1.0", "scenario", kBox);
     write_sample_trajectory(writer);
   }  // the destructor closes
-  EXPECT_FALSE(fs::exists(path + ".partial"));
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"traj.h5md"});
   const H5mdSeries position = read_h5md_series(path, "/particles/disk/position");
   EXPECT_EQ(position.step, (std::vector<long>{0, 100, 200}));
   EXPECT_EQ(position.time, (std::vector<double>{0, 100, 200}));
@@ -769,11 +769,29 @@ TEST(H5mdFile, AppearsUnderItsFinalNameOnlyWhenClosed) {
   write_sample_trajectory(writer);
   writer.flush();
   EXPECT_FALSE(fs::exists(path));
-  EXPECT_TRUE(fs::exists(path + ".partial"));
+  const auto partial = dir.entries();
+  ASSERT_EQ(partial.size(), 1u);
+  EXPECT_EQ(partial[0].rfind("traj.h5md.partial-", 0), 0u) << partial[0];
   writer.close();
-  EXPECT_TRUE(fs::exists(path));
-  EXPECT_FALSE(fs::exists(path + ".partial"));
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"traj.h5md"});
   EXPECT_THROW(writer.append_body("disk", 400, {0, 0, 0}, {0, 0, 0}), std::logic_error);
+}
+
+// Two runs recording into one path at once (two `lbsolid submit --out` of one directory): each
+// writes a file of its own, and the path ends as one of them, whole, never a mix (with one shared
+// .partial name the second writer truncated the first's file under it).
+TEST(H5mdFile, TwoWritersOfOnePathEachWriteTheirOwnFile) {
+  TempDir dir;
+  const std::string path = dir.file("traj.h5md");
+  H5mdWriter first(path, "0.1.0", "scenario", kBox);
+  H5mdWriter second(path, "0.1.0", "scenario", kBox);
+  write_sample_trajectory(first);
+  second.append_body("disk", 7, {1, 2}, {3, 4});
+  second.close();
+  EXPECT_EQ(read_h5md_series(path, "/observables/disk/velocity").step, (std::vector<long>{7}));
+  first.close();  // the last to close gives the path its file
+  EXPECT_EQ(read_h5md_series(path, "/particles/disk/position").step, (std::vector<long>{0, 100, 200}));
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"traj.h5md"});
 }
 
 TEST(H5mdFile, ChangingParticleCountIsRefused) {
