@@ -18,6 +18,7 @@ namespace {
 using std::chrono::milliseconds;
 
 constexpr long kDefaultChunkBytes = 1L << 20;
+constexpr std::size_t kMaxListedBytes = 3 << 20;  // ValidateScenario's lists: under the 4 MiB message limit
 constexpr long kMinChunkBytes = 1L << 10;
 constexpr long kMaxChunkBytes = 3L << 20;  // leaves room under the 4 MiB message limit
 constexpr double kMinProgressInterval = 0.05;  // seconds
@@ -29,8 +30,10 @@ constexpr double kMaxProgressInterval = 3600;  // an hour: past it, the millisec
 grpc::Status to_grpc(const absl::Status& status) {
   if (status.ok()) return grpc::Status::OK;
   const std::string message(status.message());
+  if (message.size() <= kMaxSummaryBytes)  // error_summary()'s lists, whole: their count of the rest included
+    return grpc::Status(static_cast<grpc::StatusCode>(status.code()), message);
   std::string text = message.substr(0, utf8_prefix_size(message, kMaxSummaryBytes - 32));
-  if (text.size() < message.size()) text += absl::StrCat("... (", message.size(), " bytes)");
+  text += absl::StrCat("... (", message.size(), " bytes)");
   return grpc::Status(static_cast<grpc::StatusCode>(status.code()), text);
 }
 
@@ -75,6 +78,30 @@ grpc::Status SimulationService::CreateSession(grpc::ServerContext*, const v1::Cr
     return to_grpc(session.status());
   }
   *response = (*session)->describe();
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::ValidateScenario(grpc::ServerContext*, const v1::ValidateScenarioRequest* request,
+                                                 v1::ValidateScenarioResponse* response) {
+  if (!request->has_scenario()) return invalid("scenario: required");
+  const TranslatedScenario checked = manager_.validate(request->scenario());
+  // Every problem and warning, as long as the answer stays under the message limit (a request of
+  // up to 4 MiB can yield more text than that); the totals count them all.
+  std::size_t bytes = 0;
+  const auto fits = [&](const std::string& text) {
+    bytes += text.size() + 8;  // with the field's tag and length
+    return bytes <= kMaxListedBytes;
+  };
+  for (const auto& problem : checked.errors) {
+    if (!fits(problem)) break;
+    response->add_problems(problem);
+  }
+  for (const auto& warning : checked.warnings) {
+    if (!fits(warning)) break;
+    response->add_warnings(warning);
+  }
+  response->set_problems_total(static_cast<long>(checked.errors.size()));
+  response->set_warnings_total(static_cast<long>(checked.warnings.size()));
   return grpc::Status::OK;
 }
 

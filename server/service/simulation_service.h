@@ -14,6 +14,8 @@ class SimulationService final : public v1::Simulation::Service {
   explicit SimulationService(SessionManager& manager) : manager_(manager) {}
 
   grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::Session*) override;
+  grpc::Status ValidateScenario(grpc::ServerContext*, const v1::ValidateScenarioRequest*,
+                                v1::ValidateScenarioResponse*) override;
   grpc::Status GetSession(grpc::ServerContext*, const v1::GetSessionRequest*, v1::Session*) override;
   grpc::Status ListSessions(grpc::ServerContext*, const v1::ListSessionsRequest*, v1::ListSessionsResponse*) override;
   grpc::Status DeleteSession(grpc::ServerContext*, const v1::DeleteSessionRequest*, v1::DeleteSessionResponse*) override;

@@ -33,6 +33,13 @@ v1::SessionState recovered_state(const storage::CheckpointContents& contents) {
   return contents.started ? v1::SESSION_STATE_PAUSED : v1::SESSION_STATE_CREATED;
 }
 
+// A scenario a session cannot hold: too big for GetSession's answer. Empty if it fits.
+std::string oversize_problem(const v1::Scenario& scenario) {
+  const auto bytes = scenario.ByteSizeLong();
+  if (bytes <= kMaxScenarioBytes) return {};
+  return absl::StrCat("scenario: ", bytes, " bytes encoded, more than the ", kMaxScenarioBytes, " a session may hold");
+}
+
 absl::Status no_session(const std::string& id) {
   return absl::NotFoundError(absl::StrCat("session_id: no session \"", id.substr(0, 100), "\""));
 }
@@ -117,9 +124,7 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::build(SessionSetup setu
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::add(const v1::Scenario& scenario,
                                                              const std::string& request_id, const Prepare& prepare) {
-  if (const auto bytes = scenario.ByteSizeLong(); bytes > kMaxScenarioBytes)
-    return absl::InvalidArgumentError(absl::StrCat("scenario: ", bytes, " bytes encoded, more than the ",
-                                                   kMaxScenarioBytes, " a session may hold"));
+  if (auto problem = oversize_problem(scenario); !problem.empty()) return absl::InvalidArgumentError(problem);
   if (request_id.size() > kMaxRequestIdBytes)
     return absl::InvalidArgumentError(absl::StrCat("request_id: ", request_id.size(), " bytes, more than ",
                                                    kMaxRequestIdBytes));
@@ -157,6 +162,15 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::add(const v1::Scenario&
   creation_done_.notify_all();
   if (session.ok()) autosave_wake_.notify_one();  // the first save of a new session comes soon
   return session;
+}
+
+TranslatedScenario SessionManager::validate(const v1::Scenario& scenario) const {
+  if (auto problem = oversize_problem(scenario); !problem.empty()) {
+    TranslatedScenario refused;  // not translated: CreateSession refuses it before that too
+    refused.errors.push_back(std::move(problem));
+    return refused;
+  }
+  return translate_scenario(scenario);
 }
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::create(const v1::Scenario& scenario,

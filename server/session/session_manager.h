@@ -50,6 +50,9 @@ class SessionManager {
   const storage::WriterInfo& writer() const { return store_.writer(); }
 
   absl::StatusOr<std::shared_ptr<Session>> create(const v1::Scenario& scenario, const std::string& request_id);
+  // Every problem create() would find in the scenario itself (its size, its translation and
+  // validation; not the daemon's limits), and its warnings. Builds nothing.
+  TranslatedScenario validate(const v1::Scenario& scenario) const;
   absl::StatusOr<std::shared_ptr<Session>> find(const std::string& id) const;
   std::vector<std::shared_ptr<Session>> list() const;
   int count() const;

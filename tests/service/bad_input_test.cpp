@@ -108,6 +108,51 @@ TEST_F(BadInput, ScenarioTheDaemonCannotBuildIsRefusedNamingTheField) {
   EXPECT_EQ(list.sessions_size(), 0);
 }
 
+// CreateSession's refusal names the first 20 problems in its status message (which must fit in a
+// header); ValidateScenario answers with every one, in the same words, and creates nothing.
+TEST_F(BadInput, ValidateScenarioListsEveryProblemCreateSessionSummarises) {
+  auto scenario = small_channel_with_disk();
+  constexpr int kBodies = 150;  // each one beyond a y wall of the 32 x 16 channel: one problem each
+  for (int b = 1; b < kBodies; ++b) {
+    auto* body = scenario.add_bodies();
+    *body = scenario.bodies(0);
+    body->set_name("b" + std::to_string(b));
+    body->mutable_centre()->set_y(1000 + b);
+  }
+  scenario.mutable_bodies(0)->mutable_centre()->set_y(-1000);
+  const auto refused = create(scenario);
+  ASSERT_TRUE(has_status(refused, StatusCode::INVALID_ARGUMENT, "scenario.bodies[0]"));
+  EXPECT_NE(refused.error_message().find(" more problems"), std::string::npos) << refused.error_message();
+
+  v1::ValidateScenarioRequest request;
+  *request.mutable_scenario() = scenario;
+  v1::ValidateScenarioResponse checked;
+  ASSERT_TRUE(stub_->ValidateScenario(deadline_context().get(), request, &checked).ok());
+  EXPECT_EQ(checked.problems_total(), kBodies);
+  ASSERT_EQ(checked.problems_size(), kBodies);
+  for (int b = 0; b < kBodies; ++b)
+    EXPECT_EQ(checked.problems(b).rfind("scenario.bodies[" + std::to_string(b) + "].centre: ", 0), 0u)
+        << checked.problems(b);
+  EXPECT_NE(refused.error_message().find(checked.problems(0)), std::string::npos) << "the same words";
+  EXPECT_EQ(refused.error_message().find(checked.problems(kBodies - 1)), std::string::npos)
+      << "the summary holds only the first problems";
+
+  request.clear_scenario();
+  *request.mutable_scenario() = small_channel_with_disk();
+  request.mutable_scenario()->mutable_fluid()->set_omega(1.99);  // valid, near the stability limit
+  ASSERT_TRUE(stub_->ValidateScenario(deadline_context().get(), request, &checked).ok());
+  EXPECT_EQ(checked.problems_total(), 0);
+  EXPECT_EQ(checked.problems_size(), 0);
+  ASSERT_EQ(checked.warnings_total(), 1);
+  EXPECT_NE(checked.warnings(0).find("scenario.fluid.omega"), std::string::npos) << checked.warnings(0);
+
+  EXPECT_TRUE(has_status(stub_->ValidateScenario(deadline_context().get(), {}, &checked),
+                         StatusCode::INVALID_ARGUMENT, "scenario"));
+  v1::ListSessionsResponse list;
+  ASSERT_TRUE(stub_->ListSessions(deadline_context().get(), {}, &list).ok());
+  EXPECT_EQ(list.sessions_size(), 0) << "ValidateScenario created nothing";
+}
+
 // omega outside (0, 2) gives no positive viscosity: INVALID_ARGUMENT naming scenario.fluid.omega.
 TEST_F(BadInput, OmegaOutsideTheOpenIntervalIsRefused) {
   for (double omega : {0.0, 2.5, 2.0, -1.0}) {
