@@ -199,6 +199,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         case Method::kGetServerInfo:
           call<v1::GetServerInfoRequest, v1::ServerInfo>(payload, method, answered, bind(&S::GetServerInfo));
           break;
+        case Method::kValidateScenario:
+          call<v1::ValidateScenarioRequest, v1::ValidateScenarioResponse>(payload, method, answered,
+                                                                          bind(&S::ValidateScenario));
+          break;
       }
     }
   }  // the manager stops its worker here

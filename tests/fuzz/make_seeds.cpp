@@ -45,6 +45,9 @@ std::string answered(int index) { return std::string("$") + static_cast<char>(in
 std::string session_life(const v1::Scenario& scenario) {
   const std::string created = answered(0), restored = answered(1);
   std::string calls;
+  v1::ValidateScenarioRequest validate;
+  *validate.mutable_scenario() = scenario;
+  calls += encode_call(Method::kValidateScenario, validate.SerializeAsString());
   v1::CreateSessionRequest create;
   *create.mutable_scenario() = scenario;
   create.set_request_id("seed");
