@@ -20,12 +20,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string text(reinterpret_cast<const char*>(data), size);
   const std::size_t first = text.find_first_not_of(" \t\r\n\f\v");
   if (first == std::string::npos || text[first] != '{') return -1;  // not JSON: not this target's input
-  lbsolid::v1::Scenario scenario;
-  std::string error;
-  if (!lbsolid::server::parse_scenario_text(text, &scenario, &error)) {
-    if (error.empty()) lbsolid::fuzz::fail("parse_scenario_text failed without a message", text);
-    return 0;
-  }
-  lbsolid::fuzz::check_scenario(scenario);
+  lbsolid::fuzz::check_scenario_text(text);
   return 0;
 }

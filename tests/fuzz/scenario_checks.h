@@ -91,4 +91,16 @@ inline void check_scenario(const lbsolid::v1::Scenario& scenario) {
   }
 }
 
+// A scenario file's text (protobuf text or JSON): a refusal must say why; what parses goes
+// through check_scenario().
+inline void check_scenario_text(const std::string& text) {
+  lbsolid::v1::Scenario scenario;
+  std::string error;
+  if (!server::parse_scenario_text(text, &scenario, &error)) {
+    if (error.empty()) fail("parse_scenario_text failed without a message", text);
+    return;
+  }
+  check_scenario(scenario);
+}
+
 }  // namespace lbsolid::fuzz
