@@ -47,6 +47,8 @@ const std::vector<CommandSpec>& command_specs() {
         {"particles-every", true}},
        "--steps N [--wait] [--out DIR] [--request-id ID] [--profile-every N] [--particles-every N]",
        "create a session from a scenario file (.textproto or .json) and run it N steps"},
+      {"validate", {"FILE"}, {}, "",
+       "list every problem and warning the daemon finds in a scenario file (exit 2 if any problem)"},
       {"status", {"ID"}, {}, "", "show one session"},
       {"list", {}, {}, "", "list the daemon's sessions"},
       {"info", {}, {}, "", "show the daemon's version, capabilities and limits"},

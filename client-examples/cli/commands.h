@@ -11,6 +11,7 @@
 namespace lbsolid::cli {
 
 int cmd_submit(const CommandLine& line);      // commands_submit.cpp
+int cmd_validate(const CommandLine& line);    // commands_validate.cpp
 int cmd_status(const CommandLine& line);      // commands_session.cpp ...
 int cmd_list(const CommandLine& line);
 int cmd_info(const CommandLine& line);

@@ -23,7 +23,7 @@ const std::map<std::string, Command>& commands() {
       {"submit", cmd_submit}, {"status", cmd_status},   {"list", cmd_list},       {"info", cmd_info},
       {"run", cmd_run},       {"pause", cmd_pause},     {"resume", cmd_resume},   {"cancel", cmd_cancel},
       {"delete", cmd_delete}, {"checkpoint", cmd_checkpoint}, {"restore", cmd_restore}, {"watch", cmd_watch},
-      {"fetch", cmd_fetch},
+      {"fetch", cmd_fetch},   {"validate", cmd_validate},
   };
   return table;
 }

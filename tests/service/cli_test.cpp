@@ -95,6 +95,33 @@ stability { check_interval: 10 max_mach: 0.3 }
   EXPECT_NE(r.out.find("Mach number"), std::string::npos) << r.out;
 }
 
+// validate lists every problem (a refused submit names only the first 20) and exits 2; a valid
+// scenario exits 0 with its near-edge warnings; nothing is created either way.
+TEST_F(Cli, ValidateListsEveryProblemAndCreatesNothing) {
+  std::string many = kSmallScenario;
+  for (int i = 0; i < 30; ++i)  // 30 bodies, each with a radius the daemon refuses
+    many += "bodies { name: \"bad" + std::to_string(i) + "\" shape: BODY_SHAPE_DISK radius: -1 }\n";
+  const auto invalid = write_file(dir_, "many.textproto", many);
+  const auto r = cli(server() + "--json validate " + invalid);
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.out.find("\"valid\":false"), std::string::npos) << r.out;
+  for (int i : {0, 19, 20, 29})  // past the 20 a status message carries
+    EXPECT_NE(r.out.find("scenario.bodies[" + std::to_string(i + 1) + "].radius"), std::string::npos) << i << r.out;
+  EXPECT_NE(r.out.find("\"problems_total\":30"), std::string::npos) << r.out;
+
+  std::string edgy = kSmallScenario;
+  edgy.replace(edgy.find("omega: 1.2"), 10, "omega: 1.97");
+  const auto valid = cli(server() + "--json validate " + write_file(dir_, "edgy.textproto", edgy));
+  EXPECT_EQ(valid.exit_code, 0) << valid.out;
+  EXPECT_NE(valid.out.find("\"valid\":true"), std::string::npos) << valid.out;
+  EXPECT_NE(valid.out.find("scenario.fluid.omega"), std::string::npos) << valid.out;  // the warning
+  EXPECT_NE(valid.out.find("\"problems_total\":0"), std::string::npos) << valid.out;
+
+  const auto list = cli(server() + "--json list");
+  EXPECT_EQ(list.exit_code, 0);
+  EXPECT_EQ(list.out.find("\"id\""), std::string::npos) << "validate created a session: " << list.out;
+}
+
 // The value printed after `label` in a summary.txt line (lbsolid-drag-summary); NaN if absent.
 double summary_value(const std::string& summary, const std::string& label) {
   const auto at = summary.find(label);
