@@ -49,7 +49,7 @@ struct FluidConfig {
   double rho0 = 1.0;           // reference density: storage offset and moving-wall density
   std::array<SideBoundary, 6> sides{};
   Vec3 body_force{0, 0, 0};  // force per node (momentum added per node per step)
-  int threads = 1;           // worker threads for the fused kernel
+  int threads = 1;           // parts each step is cut into: the threads of its own pool, or parts for a shared one
   StreamingScheme streaming = StreamingScheme::kInPlace;
   CollisionModel collision = CollisionModel::kBgk;
   double trt_magic = 3.0 / 16.0;  // TRT's Lambda: 3/16 puts bounce-back walls exactly half-way (Poiseuille)

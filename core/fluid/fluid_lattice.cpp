@@ -37,13 +37,14 @@ bool any_force(const FluidConfig& c) {
 }  // namespace
 
 template <class L, class T>
-FluidLattice<L, T>::FluidLattice(const FluidConfig& config)
+FluidLattice<L, T>::FluidLattice(const FluidConfig& config, std::shared_ptr<parallel::ThreadPool> pool)
     : config_(checked<L>(config)),
       cells_(static_cast<long>(config.nx) * config.ny * config.nz),
       has_force_(any_force(config)),
       plans_(config),
       storage_(config.streaming == StreamingScheme::kInPlace ? 1 : 2, Q, cells_),
-      pool_(std::make_unique<parallel::ThreadPool>(config.threads)) {
+      owns_pool_(pool == nullptr),
+      pool_(owns_pool_ ? std::make_shared<parallel::ThreadPool>(config_.threads) : std::move(pool)) {
   if (in_place()) check_in_place_slots();
   initialize_uniform(config_.rho0, {0, 0, 0});
 }
@@ -82,8 +83,8 @@ FluidLattice<L, T>::~FluidLattice() = default;
 template <class L, class T>
 void FluidLattice<L, T>::set_threads(int threads) {
   if (threads < 1) throw std::invalid_argument("threads: must be at least 1, got " + std::to_string(threads));
+  if (owns_pool_) pool_ = std::make_shared<parallel::ThreadPool>(threads);
   config_.threads = threads;
-  pool_ = std::make_unique<parallel::ThreadPool>(threads);
 }
 
 template <class L, class T>
@@ -184,22 +185,23 @@ void FluidLattice<L, T>::launch() {
   const int nx = config_.nx;
   const long stride = storage_.stride();
   const auto& plans = plans_;
-  // One kernel per (scheme, phase, force) combination; each row range goes to one worker.
+  // One kernel per (scheme, phase, force) combination; each of config_.threads row ranges goes
+  // to one thread of the pool.
   auto run_kernel = [&]<bool kForce>(std::bool_constant<kForce>) {
     if (!in_place()) {
       const T* src = storage_.buffer(current_);
       T* dst = storage_.buffer(current_ ^ 1);
-      pool_->parallel_for(rows, [&](long begin, long end) {
+      pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
         stream_collide_rows<L, T, Collision, kForce>(plans, src, dst, stride, nx, begin, end, rates, rho0);
       });
     } else if (pulled_) {
       T* f = storage_.buffer(0);
-      pool_->parallel_for(rows, [&](long begin, long end) {
+      pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
         stream_collide_in_place_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
       });
     } else {
       T* f = storage_.buffer(0);
-      pool_->parallel_for(rows, [&](long begin, long end) {
+      pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
         collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
       });
     }

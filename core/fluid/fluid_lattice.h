@@ -46,8 +46,10 @@ class FluidLattice {
   using Real = T;
   static constexpr int Q = L::Q;
 
-  // Throws std::invalid_argument naming every bad field (validate_fluid_config).
-  explicit FluidLattice(const FluidConfig& config);
+  // Throws std::invalid_argument naming every bad field (validate_fluid_config). Each step is cut
+  // into config.threads parts, run by `pool` when one is given (shared with other lattices: a
+  // daemon's sessions), else by a pool of config.threads threads of its own.
+  explicit FluidLattice(const FluidConfig& config, std::shared_ptr<parallel::ThreadPool> pool = nullptr);
   ~FluidLattice();
 
   const FluidConfig& config() const { return config_; }
@@ -66,6 +68,7 @@ class FluidLattice {
   // (x, y, z) produced in the step just taken, before they arrive downstream. The node's momentum
   // grows by exactly dp and its mass is unchanged. Call between step() and the next step().
   void add_momentum(int x, int y, int z, const Vec3& dp);
+  // The number of parts each step is cut into; a lattice with its own pool resizes it.
   void set_threads(int threads);
 
   FluidRawState raw_state() const;
@@ -112,7 +115,8 @@ class FluidLattice {
   bool pulled_ = true;    // in-place: true when the next step is an odd (pulling) step
   long steps_ = 0;
   bool stepped_ = false;  // a step has run since the last initialize(): add_momentum is allowed
-  std::unique_ptr<parallel::ThreadPool> pool_;
+  bool owns_pool_;
+  std::shared_ptr<parallel::ThreadPool> pool_;
 };
 
 }  // namespace lbsolid::fluid

@@ -1,17 +1,12 @@
 #include "parallel/thread_pool.h"
 
-namespace lbsolid::parallel {
+#include <algorithm>
 
-namespace {
-// Part `k` of `parts` equal shares of [0, n).
-std::pair<long, long> share(long n, int k, int parts) {
-  return {n * k / parts, n * (k + 1) / parts};
-}
-}  // namespace
+namespace lbsolid::parallel {
 
 ThreadPool::ThreadPool(int threads) {
   try {
-    for (int i = 1; i < threads; ++i) workers_.emplace_back([this, i] { worker_loop(i); });
+    for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { worker_loop(); });
   } catch (...) {
     stop_and_join();  // threads that did start must not outlive the failed constructor
     throw;
@@ -25,50 +20,64 @@ void ThreadPool::stop_and_join() {
     std::lock_guard lock(mutex_);
     stopping_ = true;
   }
-  start_.notify_all();
+  work_.notify_all();
   for (auto& t : workers_) t.join();
   workers_.clear();
 }
 
-void ThreadPool::parallel_for(long n, const std::function<void(long, long)>& fn) {
-  if (workers_.empty() || n < 2) {
-    fn(0, n);
-    return;
-  }
-  {
-    std::lock_guard lock(mutex_);
-    job_ = &fn;
-    job_size_ = n;
-    pending_ = static_cast<int>(workers_.size());
-    ++generation_;
-  }
-  start_.notify_all();
-  auto [begin, end] = share(n, 0, size());
-  fn(begin, end);
-  std::unique_lock lock(mutex_);
-  done_.wait(lock, [this] { return pending_ == 0; });
-  job_ = nullptr;
+int ThreadPool::take_part_locked(Job& job) {
+  const int part = job.next_part++;
+  if (job.next_part == job.parts) queue_.erase(std::find(queue_.begin(), queue_.end(), &job));
+  return part;
 }
 
-void ThreadPool::worker_loop(int index) {
-  long seen = 0;
+void ThreadPool::run_part(Job& job, int part) {
+  // Part k of `parts` near-equal shares of [0, n).
+  (*job.fn)(job.n * part / job.parts, job.n * (part + 1) / job.parts);
+  std::lock_guard lock(mutex_);
+  // Notified under the lock: the caller cannot see its job finished, and destroy it, before this
+  // thread has let go of it.
+  if (--job.unfinished == 0) done_.notify_all();
+}
+
+void ThreadPool::parallel_for(long n, int parts, const std::function<void(long, long)>& fn) {
+  parts = static_cast<int>(std::clamp<long>(parts, 1, std::max(n, 1L)));
+  if (workers_.empty() || parts == 1) {
+    fn(0, n);  // the parts in sequence would compute the same
+    return;
+  }
+  Job job{&fn, n, parts, 0, parts};
+  {
+    std::lock_guard lock(mutex_);
+    queue_.push_back(&job);
+  }
+  for (int i = 1; i < parts; ++i) work_.notify_one();  // the caller takes a part itself
+  // The caller works on its own job: it finishes even when every pool thread is busy elsewhere.
   for (;;) {
-    const std::function<void(long, long)>* job;
-    long n;
-    {
-      std::unique_lock lock(mutex_);
-      start_.wait(lock, [&] { return stopping_ || generation_ != seen; });
-      if (stopping_) return;
-      seen = generation_;
-      job = job_;
-      n = job_size_;
-    }
-    auto [begin, end] = share(n, index, size());
-    (*job)(begin, end);
+    int part;
     {
       std::lock_guard lock(mutex_);
-      if (--pending_ == 0) done_.notify_one();
+      if (job.next_part == job.parts) break;
+      part = take_part_locked(job);
     }
+    run_part(job, part);
+  }
+  std::unique_lock lock(mutex_);
+  done_.wait(lock, [&] { return job.unfinished == 0; });
+}
+
+void ThreadPool::worker_loop() {
+  for (;;) {
+    Job* job;
+    int part;
+    {
+      std::unique_lock lock(mutex_);
+      work_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+      if (stopping_) return;
+      job = queue_.front();
+      part = take_part_locked(*job);
+    }
+    run_part(*job, part);
   }
 }
 

@@ -1,7 +1,13 @@
 #pragma once
-// A fixed set of worker threads that split a loop over rows; the calling thread takes a share,
-// so a pool of size 1 runs everything inline with no synchronisation.
+// A fixed set of worker threads that split loops over rows. Several threads may call
+// parallel_for at once (sessions of one daemon share one pool): each call is a job cut into its
+// own number of parts; the caller works through its job's parts, idle pool threads take parts of
+// the oldest unfinished job, and the call returns when all its parts are done. A pool of size 1
+// runs every job on its caller with no synchronisation.
+//
+// Results do not depend on which thread ran a part: the parts are fixed by (n, parts) alone.
 #include <condition_variable>
+#include <deque>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -11,7 +17,8 @@ namespace lbsolid::parallel {
 
 class ThreadPool {
  public:
-  // Throws std::system_error if a thread cannot start (the ones started are stopped first).
+  // `threads` counts the caller: threads - 1 are started. Throws std::system_error if a thread
+  // cannot start (the ones started are stopped first).
   explicit ThreadPool(int threads);
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;
@@ -19,21 +26,31 @@ class ThreadPool {
 
   int size() const { return static_cast<int>(workers_.size()) + 1; }
 
-  // Calls fn(begin, end) on contiguous, disjoint parts of [0, n) and returns when all are done.
-  void parallel_for(long n, const std::function<void(long, long)>& fn);
+  // Calls fn(begin, end) on `parts` contiguous, disjoint, near-equal parts of [0, n) (fewer when
+  // n is smaller) and returns when all are done.
+  void parallel_for(long n, int parts, const std::function<void(long, long)>& fn);
+  // One part per thread of the pool.
+  void parallel_for(long n, const std::function<void(long, long)>& fn) { parallel_for(n, size(), fn); }
 
  private:
-  void worker_loop(int index);
+  struct Job {
+    const std::function<void(long, long)>* fn;
+    long n;
+    int parts;
+    int next_part = 0;  // the first part nobody has taken
+    int unfinished;     // parts not yet done
+  };
+  // Takes the next part of `job` (the mutex held); removes the job from the queue with its last.
+  int take_part_locked(Job& job);
+  void run_part(Job& job, int part);  // runs it, then counts it done (takes the mutex)
+  void worker_loop();
   void stop_and_join();
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
-  std::condition_variable start_;
-  std::condition_variable done_;
-  const std::function<void(long, long)>* job_ = nullptr;
-  long job_size_ = 0;
-  long generation_ = 0;
-  int pending_ = 0;
+  std::condition_variable work_;  // a job was queued, or the pool stops
+  std::condition_variable done_;  // a job's last part finished
+  std::deque<Job*> queue_;        // jobs with parts nobody has taken, oldest first
   bool stopping_ = false;
 };
 

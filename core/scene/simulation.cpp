@@ -21,8 +21,9 @@ bool nonzero(const Vec3& v) { return v[0] != 0 || v[1] != 0 || v[2] != 0; }
 template <class L, class T>
 class SimulationImpl final : public Simulation {
  public:
-  explicit SimulationImpl(const Scene& scene) : scene_(scene), locator_(scene.fluid) {
-    if (scene.with_fluid) fluid_ = std::make_unique<fluid::FluidLattice<L, T>>(scene.fluid);
+  SimulationImpl(const Scene& scene, std::shared_ptr<parallel::ThreadPool> pool)
+      : scene_(scene), locator_(scene.fluid) {
+    if (scene.with_fluid) fluid_ = std::make_unique<fluid::FluidLattice<L, T>>(scene.fluid, std::move(pool));
     if (scene.bodies.empty()) return;
     solid_ = std::make_unique<solid::SolidSystem>(L::D);
     for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
@@ -219,14 +220,14 @@ class SimulationImpl final : public Simulation {
 };
 
 template <class L>
-std::unique_ptr<Simulation> build_for_lattice(const Scene& scene) {
-  if (scene.precision == Precision::kFloat) return std::make_unique<SimulationImpl<L, float>>(scene);
-  return std::make_unique<SimulationImpl<L, double>>(scene);
+std::unique_ptr<Simulation> build_for_lattice(const Scene& scene, std::shared_ptr<parallel::ThreadPool> pool) {
+  if (scene.precision == Precision::kFloat) return std::make_unique<SimulationImpl<L, float>>(scene, std::move(pool));
+  return std::make_unique<SimulationImpl<L, double>>(scene, std::move(pool));
 }
 
 }  // namespace
 
-std::unique_ptr<Simulation> build_simulation(const Scene& scene) {
+std::unique_ptr<Simulation> build_simulation(const Scene& scene, std::shared_ptr<parallel::ThreadPool> pool) {
   const auto errors = validate_scene(scene);
   if (!errors.empty()) {
     std::string message = "invalid scene: ";
@@ -234,9 +235,9 @@ std::unique_ptr<Simulation> build_simulation(const Scene& scene) {
     throw std::invalid_argument(message);
   }
   switch (scene.lattice) {
-    case LatticeKind::kD2Q9: return build_for_lattice<lattice::D2Q9>(scene);
-    case LatticeKind::kD2Q7: return build_for_lattice<lattice::D2Q7>(scene);
-    case LatticeKind::kD3Q19: return build_for_lattice<lattice::D3Q19>(scene);
+    case LatticeKind::kD2Q9: return build_for_lattice<lattice::D2Q9>(scene, std::move(pool));
+    case LatticeKind::kD2Q7: return build_for_lattice<lattice::D2Q7>(scene, std::move(pool));
+    case LatticeKind::kD3Q19: return build_for_lattice<lattice::D3Q19>(scene, std::move(pool));
   }
   throw std::invalid_argument("lattice: unknown lattice");
 }

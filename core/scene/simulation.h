@@ -94,11 +94,15 @@ class Simulation {
   virtual SimulationState save_state() const = 0;
   // Throws std::invalid_argument naming what does not match this simulation's scene.
   virtual void load_state(const SimulationState& state) = 0;
-  // Threads of the fluid kernel (results do not depend on it).
+  // Parts each fluid step is cut into: threads of its own pool, or parts for a shared pool
+  // (results do not depend on it).
   virtual void set_threads(int threads) = 0;
 };
 
 // Throws std::invalid_argument listing every problem (validate_scene) if the scene cannot run.
-std::unique_ptr<Simulation> build_simulation(const Scene& scene);
+// With `pool`, the fluid's steps run on it in scene.fluid.threads parts, sharing its threads with
+// whatever else uses it; without, the fluid starts scene.fluid.threads - 1 threads of its own.
+std::unique_ptr<Simulation> build_simulation(const Scene& scene,
+                                             std::shared_ptr<parallel::ThreadPool> pool = nullptr);
 
 }  // namespace lbsolid::scene

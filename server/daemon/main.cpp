@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <system_error>
 #include <thread>
 
 #include "absl/flags/flag.h"
@@ -42,8 +43,9 @@ ABSL_FLAG(int64_t, max_sync_steps, 10000, "largest Step request");
 ABSL_FLAG(int64_t, max_memory, 0,
           "bytes all sessions together may take, by the estimate made before each is built; 0: 3/4 of physical memory");
 ABSL_FLAG(int64_t, max_particles, int64_t{1} << 24, "solid particles of all sessions together");
-ABSL_FLAG(int, max_fluid_threads, static_cast<int>(4 * std::max(1u, std::thread::hardware_concurrency())),
-          "fluid kernel threads (scenario.fluid.threads - 1 per session) of all sessions together");
+ABSL_FLAG(int, max_fluid_threads, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())),
+          "threads of the one pool that every session's fluid steps share, beyond the thread stepping each "
+          "session (a session's scenario.fluid.threads cuts its steps into that many parts)");
 ABSL_FLAG(absl::Duration, autosave_interval, absl::Minutes(2),
           "wall time between automatic saves of every session that changed (a crash loses at most this); 0 "
           "turns them off");
@@ -116,7 +118,8 @@ int main(int argc, char** argv) {
   limits.max_fluid_threads = absl::GetFlag(FLAGS_max_fluid_threads);
   if (limits.max_memory_bytes < 0) return fail_start("--max_memory: must not be negative");
   if (limits.max_particles < 0) return fail_start("--max_particles: must not be negative");
-  if (limits.max_fluid_threads < 0) return fail_start("--max_fluid_threads: must not be negative");
+  if (limits.max_fluid_threads < 0 || limits.max_fluid_threads > 1024)
+    return fail_start("--max_fluid_threads: must lie in [0, 1024]");
   const absl::Duration autosave = absl::GetFlag(FLAGS_autosave_interval);
   if (autosave < absl::ZeroDuration()) return fail_start("--autosave_interval: must not be negative");
   limits.autosave_interval = absl::ToChronoMilliseconds(autosave);
@@ -142,6 +145,10 @@ int main(int argc, char** argv) {
     manager = std::make_unique<lbsolid::server::SessionManager>(
         absl::GetFlag(FLAGS_data_dir), limits,
         lbsolid::server::storage::WriterInfo{LBSOLID_VERSION, LBSOLID_GIT_REVISION});
+  } catch (const std::filesystem::filesystem_error& e) {
+    return fail_start(std::string("--data_dir: ") + e.what());
+  } catch (const std::system_error& e) {
+    return fail_start(std::string("--workers, --max_fluid_threads: cannot start the threads: ") + e.what());
   } catch (const std::exception& e) {
     return fail_start(std::string("--data_dir: ") + e.what());
   }

@@ -74,7 +74,6 @@ long long population_array_bytes(long long cells, int value_bytes) {
 Footprint& Footprint::operator+=(const Footprint& o) {
   cells += o.cells;
   particles += o.particles;
-  pool_threads += o.pool_threads;
   resident_bytes += o.resident_bytes;
   transient_bytes += o.transient_bytes;
   return *this;
@@ -83,7 +82,6 @@ Footprint& Footprint::operator+=(const Footprint& o) {
 Footprint& Footprint::operator-=(const Footprint& o) {
   cells -= o.cells;
   particles -= o.particles;
-  pool_threads -= o.pool_threads;
   resident_bytes -= o.resident_bytes;
   transient_bytes -= o.transient_bytes;
   return *this;
@@ -97,7 +95,6 @@ Footprint estimate_footprint(const v1::Scenario& scenario) {
   const long long nz = d.has_nz() ? d.nz() : 1;
   if (with_fluid) f.cells = saturating_product(saturating_product(std::max(0, d.nx()), std::max(0, d.ny())), nz);
   for (const auto& body : scenario.bodies()) f.particles = saturating_sum(f.particles, particles_of(body, dimension));
-  f.pool_threads = scenario.fluid().has_threads() ? std::max(0, scenario.fluid().threads() - 1) : 0;
 
   const int q = velocities_of(scenario.lattice());
   const int buffers = scenario.fluid().streaming() == v1::STREAMING_TWO_BUFFER ? 2 : 1;

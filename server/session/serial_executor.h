@@ -1,8 +1,8 @@
 #pragma once
 // One thread that runs the closures handed to it, one at a time, in order, while the caller
-// waits. The session manager builds sessions on it: a session's fluid kernel threads start from
-// the thread that builds it and inherit its priority, and this one keeps the daemon's base
-// priority while the threads that answer calls run lower (thread_priority.h).
+// waits. The session manager builds sessions on it: allocating and initialising a large session
+// is simulation work, done at the daemon's base priority, which this thread keeps while the
+// threads that answer calls run lower (thread_priority.h).
 #include <condition_variable>
 #include <deque>
 #include <functional>

@@ -56,7 +56,7 @@ Session::Session(SessionSetup setup)
       scenario_(std::move(setup.scenario)),
       created_unix_ms_(setup.created_unix_ms),
       warnings_(setup.translated.warnings),
-      sim_(scene::build_simulation(setup.translated.scene)) {
+      sim_(scene::build_simulation(setup.translated.scene, std::move(setup.fluid_pool))) {
   refresh_sizes();
 }
 

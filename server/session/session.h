@@ -35,6 +35,8 @@ struct SessionSetup {
   v1::Scenario scenario;
   TranslatedScenario translated;  // must be ok()
   long long created_unix_ms = 0;
+  // The threads its fluid steps run on, shared with the daemon's other sessions; none: its own.
+  std::shared_ptr<parallel::ThreadPool> fluid_pool;
 };
 
 struct FieldData {

@@ -47,9 +47,17 @@ absl::Status no_session(const std::string& id) {
 }  // namespace
 
 SessionManager::SessionManager(std::string data_dir, ManagerLimits limits, storage::WriterInfo writer)
-    : limits_(limits), store_(std::move(data_dir), std::move(writer)) {
-  for (int w = 0; w < limits_.workers; ++w) workers_.emplace_back([this] { work(); });
-  if (limits_.autosave_interval.count() > 0) autosaver_ = std::thread([this] { autosave_loop(); });
+    : limits_(limits),
+      store_(std::move(data_dir), std::move(writer)),
+      fluid_pool_(std::make_shared<parallel::ThreadPool>(limits_.max_fluid_threads + 1)) {
+  try {
+    for (int w = 0; w < limits_.workers; ++w) workers_.emplace_back([this] { work(); });
+    if (limits_.autosave_interval.count() > 0) autosaver_ = std::thread([this] { autosave_loop(); });
+  } catch (...) {  // a thread could not start: the ones that did must not outlive the constructor
+    stop_autosave();
+    stop_workers();
+    throw;
+  }
 }
 
 SessionManager::~SessionManager() {
@@ -74,11 +82,6 @@ absl::Status SessionManager::admit_footprint_locked(const Footprint& f) const {
     return absl::ResourceExhaustedError(absl::StrCat("scenario.bodies: ", f.particles, " particles; the daemon has ",
                                                      std::max(0LL, limits_.max_particles - committed_.particles),
                                                      " of its ", limits_.max_particles, " left (--max_particles)"));
-  if (committed_.pool_threads + f.pool_threads > limits_.max_fluid_threads)
-    return absl::ResourceExhaustedError(absl::StrCat(
-        "scenario.fluid.threads: ", f.pool_threads + 1, " threads need ", f.pool_threads,
-        " beyond the worker's own; the daemon has ", std::max(0, limits_.max_fluid_threads - committed_.pool_threads),
-        " of its ", limits_.max_fluid_threads, " left (--max_fluid_threads)"));
   return absl::OkStatus();
 }
 
@@ -111,14 +114,13 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::reserve_locked(std::uni
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::build(SessionSetup setup) const {
   if (!setup.translated.ok()) return absl::InvalidArgumentError(error_summary(setup.translated.errors));
+  setup.fluid_pool = fluid_pool_;
   try {
     return std::make_shared<Session>(std::move(setup));
   } catch (const std::invalid_argument& e) {
     return absl::InvalidArgumentError(e.what());
   } catch (const std::bad_alloc&) {
     return absl::ResourceExhaustedError("scenario.domain: not enough memory on the daemon for this scenario");
-  } catch (const std::system_error& e) {  // the fluid kernel's threads could not start
-    return absl::ResourceExhaustedError(absl::StrCat("scenario.fluid.threads: cannot start them: ", e.what()));
   }
 }
 
@@ -136,8 +138,8 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::add(const v1::Scenario&
   }
   absl::StatusOr<std::shared_ptr<Session>> session = absl::InternalError("not built");
   try {
-    // Translated and validated here, at the caller's priority; built (allocated, initialised,
-    // its kernel threads started) on the builder.
+    // Translated and validated here, at the caller's priority; built (allocated, initialised)
+    // on the builder.
     SessionSetup setup{new_session_id(), request_id, scenario, translate_scenario(scenario), unix_ms_now()};
     session = builder_.run([&] { return build(std::move(setup)); });
     if (session.ok())

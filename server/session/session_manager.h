@@ -35,14 +35,17 @@ struct ManagerLimits {
   // Admission over all sessions together (footprint.h estimates each before it is built).
   long long max_memory_bytes = 8LL << 30;
   long long max_particles = 1LL << 24;
-  int max_fluid_threads = 16;  // fluid kernel threads beyond the workers, all sessions together
+  // Threads of the one pool every session's fluid steps share, beyond the thread stepping each
+  // session (a session of scenario.fluid.threads N cuts each step into N parts for it).
+  int max_fluid_threads = 2;
   // Wall time between automatic saves of every session that changed; zero turns them off.
   std::chrono::milliseconds autosave_interval = std::chrono::minutes(2);
 };
 
 class SessionManager {
  public:
-  // Throws std::filesystem::filesystem_error if data_dir cannot be used.
+  // Throws std::filesystem::filesystem_error if data_dir cannot be used, std::system_error if a
+  // thread (worker, autosave, builder, fluid pool) cannot start.
   SessionManager(std::string data_dir, ManagerLimits limits, storage::WriterInfo writer);
   ~SessionManager();  // stops the workers and the autosave (sessions are not saved: see shutdown())
 
@@ -98,6 +101,8 @@ class SessionManager {
 
   const ManagerLimits limits_;
   const SessionStore store_;
+  // Started before the workers, at the daemon's base priority; sessions keep it alive.
+  const std::shared_ptr<parallel::ThreadPool> fluid_pool_;
 
   mutable std::mutex mutex_;
   std::condition_variable creation_done_;

@@ -6,10 +6,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <fstream>
+#include <mutex>
+#include <set>
 #include <string>
 #include <system_error>
+#include <thread>
+#include <utility>
 #include <vector>
 
 namespace lbsolid::parallel {
@@ -35,6 +40,55 @@ TEST(ThreadPoolTest, RepeatedJobsReuseTheWorkers) {
     pool.parallel_for(10, [&](long begin, long end) { total += end - begin; });
   }
   EXPECT_EQ(total.load(), 2000);
+}
+
+// Parts are fixed by (n, parts) alone, whoever runs them: results cannot depend on the pool.
+TEST(ThreadPoolTest, PartsAreTheSameWhateverThePool) {
+  const long n = 1001;
+  for (int parts : {1, 2, 3, 7, 2000}) {
+    std::set<std::pair<long, long>> reference;
+    for (int threads : {1, 2, 4}) {
+      ThreadPool pool(threads);
+      std::mutex mutex;
+      std::set<std::pair<long, long>> seen;
+      pool.parallel_for(n, parts, [&](long begin, long end) {
+        std::lock_guard lock(mutex);
+        seen.insert({begin, end});
+      });
+      // Independently: part k is [n k / P, n (k+1) / P) for P = min(parts, n) (one row at least).
+      const long p = std::min<long>(parts, n);
+      if (threads > 1 || parts == 1) {  // a pool of 1 runs [0, n) in one piece: same rows, same order
+        std::set<std::pair<long, long>> expected;
+        for (long k = 0; k < p; ++k) expected.insert({n * k / p, n * (k + 1) / p});
+        EXPECT_EQ(seen, expected) << "parts " << parts << " threads " << threads;
+      }
+    }
+  }
+}
+
+// Sessions of one daemon share one pool: callers on several threads at once, each with its own
+// number of parts, each get exactly their own indices, and return only when all are done. Some
+// callers block on the pool while another's parts run: a pool that served one job at a time, or
+// a caller that waited for pool threads that are busy elsewhere, would hang or mix jobs up.
+TEST(ThreadPoolTest, ConcurrentCallersShareThePool) {
+  ThreadPool pool(3);
+  constexpr int kCallers = 6;
+  constexpr long kN = 5000;
+  std::vector<std::thread> callers;
+  std::atomic<int> wrong{0};
+  for (int c = 0; c < kCallers; ++c) {
+    callers.emplace_back([&, c] {
+      for (int round = 0; round < 100; ++round) {
+        std::vector<int> visits(kN, 0);  // each index belongs to one part: no race between parts
+        pool.parallel_for(kN, 1 + (c + round) % 5, [&](long begin, long end) {
+          for (long k = begin; k < end; ++k) visits[k] += c + 1;
+        });
+        for (long k = 0; k < kN; ++k) wrong += visits[k] != c + 1;
+      }
+    });
+  }
+  for (auto& t : callers) t.join();
+  EXPECT_EQ(wrong.load(), 0);
 }
 
 // The address space of this process now, in bytes (/proc/self/statm's first field is pages).

@@ -1,6 +1,6 @@
 // The daemon answers calls below the priority of its simulation threads (--call_nice), so that a
 // crowd of clients slows the calls rather than the runs: the workers, the autosave, the session
-// builder and every session's fluid kernel threads keep the base priority; gRPC's threads, which
+// builder and the fluid pool every session's steps share keep the base priority; gRPC's threads, which
 // answer the calls, run lower.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
@@ -26,25 +26,26 @@ TEST(CallPriority, CallsAreAnsweredBelowTheSimulationThreads) {
   ScopedDirectory dir("lbsolid-priority");
   const int base = getpriority(PRIO_PROCESS, 0);  // this thread's nice: the daemon starts from it
   ASSERT_LE(base + 7, 19) << "run the test at nice 12 or less: above, the demotion cannot show";
-  DaemonProcess daemon(dir.path, {"--call_nice=7", "--workers=2"});
+  DaemonProcess daemon(dir.path, {"--call_nice=7", "--workers=2", "--max_fluid_threads=3"});
   auto stub = daemon.stub();
   v1::Session session;
   ASSERT_TRUE(create_session(*stub, small_channel_with_disk(), &session).ok());  // calls were answered
 
-  // Base priority: 2 workers, the autosave thread and the session builder (started before the
-  // demotion; a sanitizer's own thread may join them); everything gRPC started, below.
+  // Base priority: 2 workers, the autosave thread, the session builder and the 3 threads of the
+  // fluid pool (started before the demotion; a sanitizer's own thread may join them); everything
+  // gRPC started, below.
   auto before = threads_by_nice(daemon.pid());
-  EXPECT_GE(before[base], 4) << "threads at the base nice " << base;
+  EXPECT_GE(before[base], 7) << "threads at the base nice " << base;
   EXPECT_GE(before[base + 7], 1) << "call threads at nice " << base + 7;
   EXPECT_EQ(before.size(), 2u) << "no thread at a third priority";
 
-  // A session with 3 fluid threads starts 2 kernel threads (the worker is the third): they come
-  // from the builder, so at the base priority too, not at the lowered one of the call that asked.
+  // A session with 3 fluid threads starts none: its steps run on the pool, at the base priority,
+  // not at the lowered one of the call that asked.
   auto threaded = small_channel_with_disk(64, 32);
   threaded.mutable_fluid()->set_threads(3);
   ASSERT_TRUE(create_session(*stub, threaded, &session).ok());
   auto after = threads_by_nice(daemon.pid());
-  EXPECT_EQ(after[base], before[base] + 2);
+  EXPECT_EQ(after[base], before[base]);
 }
 
 }  // namespace
