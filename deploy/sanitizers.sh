@@ -33,13 +33,8 @@ if ((${#suites[@]} == 0)); then suites=(asan tsan); fi
 #    each, 44 test-minutes together (and four AccuracyReport cases stopped unfinished), against
 #    7 for the 150 others (1.7 in this clang build on an idle machine); they run the same kernels,
 #    coupling and solid code, on bigger grids for longer, as the fluid, coupling, solid, scene,
-#    hard-case and restart tests kept here;
-#  - MomentumInjectionTest.BothStreamingSchemesAgreeBitForBitThroughWalls<D2Q9>: its bit-for-bit
-#    equality of the two streaming schemes holds with gcc -O3 -march=native (the main build) but
-#    not without -march=native (gcc -O1 or -O3, plain or -mfma, and this clang build, with or
-#    without sanitizers): the two differ in the last bit, so it fails here for a reason that is
-#    not a sanitizer's. Reported; to come back once the schemes agree in a portable build.
-CORE_EXCLUDE='^(AccuracyReport|DragFig5|ChainsFig6|Sedimentation3D)\.|^MomentumInjectionTest\.BothStreamingSchemesAgreeBitForBitThroughWalls<lbsolid::lattice::D2Q9>$'
+#    hard-case and restart tests kept here.
+CORE_EXCLUDE='^(AccuracyReport|DragFig5|ChainsFig6|Sedimentation3D)\.'
 
 # Run under ASan without detect_stack_use_after_return: ThreadPoolTest.AThreadThatCannotStartIsACleanError
 # caps its child's address space (RLIMIT_AS) to make a thread fail to start; with fake stacks ASan

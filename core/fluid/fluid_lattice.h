@@ -6,7 +6,9 @@
 // State convention: the fluid "at time t" is what the next step pulls (through the same boundary
 // rules as the kernel), so every observer below gathers exactly what the kernel would see, and
 // both streaming schemes give the same results (bit for bit with BGK; TRT and regularized agree to
-// a few ulps, the compiler fusing their multiply-adds differently in vector and scalar code).
+// a few ulps, the compiler fusing their multiply-adds differently in vector and scalar code; and
+// momentum injected into a population that then crosses a moving wall meets the wall's correction
+// in the other order, which agrees to round-off: momentum_injection_test.cpp).
 // initialize() sets that gathered state to the equilibrium of the given fields.
 #include <array>
 #include <cstddef>
