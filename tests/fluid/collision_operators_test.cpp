@@ -1,7 +1,8 @@
 // The collision operators (BGK, TRT, regularized BGK) on every lattice: shear-wave viscosity and
 // Poiseuille flow within 1%, mass and momentum to round-off, in-place = two-buffer to round-off;
 // TRT with Lambda = 3/16 reproduces the Poiseuille parabola with half-way walls to round-off (D2Q7
-// included) where BGK slips by an amount that depends on omega; BGK through the dispatcher is the
+// included) where BGK slips by an amount that depends on omega, the analytic (16 Lambda - 3) g s^2 /
+// (24 nu) for both, to round-off; BGK through the dispatcher is the
 // BGK of before, bit for bit.
 #include <gtest/gtest.h>
 
@@ -264,6 +265,43 @@ TYPED_TEST(TrtExactnessTest, MagicThreeSixteenthsGivesTheParabolaWithHalfWayWall
     if (omega != 1.0) {
       EXPECT_GT(bgk, 100 * trt) << "BGK should show its viscosity-dependent slip";
     }
+  }
+}
+
+// The slip itself, against its analytic value. For BGK and TRT with half-way bounce-back, the
+// steady Poiseuille solution is exactly the parabola through the half-way walls shifted by a
+// constant, u_slip = (16 Lambda - 3) g s^2 / (24 nu), s the row spacing (Ginzburg & Adler 1994;
+// Ginzburg & d'Humieres 2003: the TRT solution is a second-order polynomial whose wall terms depend
+// on Lambda alone; BGK is TRT with Lambda = (1/omega - 1/2)^2). Converged to round-off like the
+// tests above, so the bound is the same 1e-12 of u_max; a slip coefficient off by 1e-6 of its value,
+// or a wall moved by 1e-6 of the width, would exceed it.
+template <class L>
+double slip_formula_error(CollisionModel model, double omega, double magic) {
+  const double u_max = 0.01;
+  const auto r = poiseuille<L, double>(model, omega, 16, u_max, 1e-15, magic);
+  const double lambda = model == CollisionModel::kBgk ? (1 / omega - 0.5) * (1 / omega - 0.5) : magic;
+  const double nu = bgk_viscosity<L>(omega), s = L::row_spacing, height = 16 * s;
+  const double g = 8 * nu * u_max / (height * height);
+  const double slip = (16 * lambda - 3) * g * s * s / (24 * nu);
+  double worst = 0;
+  for (std::size_t k = 0; k < r.profile.size(); ++k)
+    worst = std::max(worst, std::abs(r.profile[k] - r.parabola[k] - slip) / u_max);
+  return worst;
+}
+
+TYPED_TEST(TrtExactnessTest, WallSlipIsTheAnalyticOne) {
+  using L = TypeParam;
+  for (double omega : {0.7, 1.0, 1.5}) {
+    const double error = slip_formula_error<L>(CollisionModel::kBgk, omega, 3.0 / 16);  // magic unused
+    report(std::string(L::name) + " BGK Poiseuille minus (parabola + analytic slip), omega " + std::to_string(omega),
+           error, 1e-12);
+    EXPECT_LT(error, 1e-12) << "BGK omega " << omega;
+  }
+  for (double magic : {1.0 / 12, 0.25, 0.5}) {
+    const double error = slip_formula_error<L>(CollisionModel::kTrt, 1.2, magic);
+    report(std::string(L::name) + " TRT Poiseuille minus (parabola + analytic slip), Lambda " + std::to_string(magic),
+           error, 1e-12);
+    EXPECT_LT(error, 1e-12) << "TRT Lambda " << magic;
   }
 }
 
