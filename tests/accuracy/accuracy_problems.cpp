@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <stdexcept>
 
@@ -94,6 +95,8 @@ const char* problem_name(Problem problem) {
     case Problem::kShearWave: return "shear_wave";
     case Problem::kPoiseuille: return "poiseuille";
     case Problem::kDiskDrag: return "disk_drag";
+    case Problem::kArrayDrag2d: return "array_drag_2d";
+    case Problem::kArrayDrag3d: return "array_drag_3d";
   }
   return "?";
 }
@@ -103,6 +106,13 @@ const char* precision_name(Precision precision) { return precision == Precision:
 std::string method_name(const Method& method) {
   return std::string(fluid::collision_model_name(method.collision)) + "/" + precision_name(method.precision) + "/" +
          scene::lattice_kind_name(method.lattice);
+}
+
+std::string method_label(Problem problem, const Method& method) {
+  if (!is_array_problem(problem)) return method_name(method);
+  char spacing[32];
+  std::snprintf(spacing, sizeof spacing, "/s%g", method.spacing);
+  return method_name(method) + spacing;
 }
 
 RunResult run_shear_wave(const Method& method, int n, const RunSettings& settings) {

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "accuracy/convergence.h"
+#include "accuracy/periodic_array.h"
 
 namespace lbsolid::accuracy {
 
@@ -17,6 +18,8 @@ RunResult run_one(Problem problem, const Method& method, int resolution, double 
     case Problem::kShearWave: return run_shear_wave(method, resolution, settings);
     case Problem::kPoiseuille: return run_poiseuille(method, resolution, settings);
     case Problem::kDiskDrag: return run_disk_drag(method, resolution, stokes_constant, settings);
+    case Problem::kArrayDrag2d:
+    case Problem::kArrayDrag3d: return run_array_drag(problem, method, resolution, settings);
   }
   return {};
 }
@@ -104,6 +107,11 @@ std::vector<RunResult> pareto_runs(Problem problem, const std::vector<MethodSwee
   std::vector<RunResult> front;
   for (std::size_t k : pareto_front(points)) front.push_back(runs[k]);
   return front;
+}
+
+std::vector<double> error_targets(Problem problem) {
+  if (is_array_problem(problem)) return {0.1, 0.05, 0.02};
+  return {0.1, 0.01, 0.001};
 }
 
 bool cheapest_within(Problem problem, const std::vector<MethodSweep>& sweeps, double target, RunResult& out) {

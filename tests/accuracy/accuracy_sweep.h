@@ -15,7 +15,7 @@ struct MethodSweep {
   Method method;
   std::vector<RunResult> runs;  // ascending resolution
   std::vector<double> pairwise_order;  // between run k-1 and run k; NaN for the first
-  // Shear wave, Poiseuille: least-squares slope of log error against log N over all runs.
+  // Shear wave, Poiseuille, array drag: least-squares slope of log error against log N over all runs.
   // Drag: the order read off the three finest c_d values (no reference needed); NaN with fewer.
   double order = 0;
   double reference = 0;          // drag: Richardson-extrapolated c_d at Re = 1
@@ -38,6 +38,10 @@ MethodSweep sweep_method(Problem problem, const Method& method, const std::vecto
 
 // The runs of `problem` on the Pareto front of (wall time, error) across all sweeps, by time.
 std::vector<RunResult> pareto_runs(Problem problem, const std::vector<MethodSweep>& sweeps);
+
+// The error levels the report asks the cheapest run for: 10%, 1%, 0.1% for the fluid problems;
+// 10%, 5%, 2% for the array drag (a body's drag converges at first order: 1% is out of reach).
+std::vector<double> error_targets(Problem problem);
 
 // The fastest run of `problem` with error <= target; false when none reaches it.
 bool cheapest_within(Problem problem, const std::vector<MethodSweep>& sweeps, double target, RunResult& out);

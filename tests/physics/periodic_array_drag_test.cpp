@@ -63,10 +63,12 @@
 // moves less than 0.1 spacing in the whole run, so every particle stays on its node and the drag is
 // that of one fixed configuration). Each run stops when the SteadyMonitor (tests/accuracy) estimates
 // that U and the body's velocity are within 1e-5 (relative) of their steady values.
+// The references, the radii and the run (Box, run_to_steady, periodic_array) are in
+// tests/accuracy/periodic_array.h, shared with the accuracy report's array_drag problems; the
+// defaults of ArrayFluid are this test's: omega = 1, rho0 = 1, U ~ 2e-6, tolerance 1e-5.
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -74,182 +76,28 @@
 #include <utility>
 #include <vector>
 
-#include "accuracy/steady_monitor.h"
+#include "accuracy/periodic_array.h"
 #include "fluid/fluid_test_support.h"
-#include "lattice/d2q7.h"
 #include "scene/simulation.h"
 
 namespace lbsolid::scene {
 namespace {
 
+using accuracy::ArrayResult;
+using accuracy::cell_measure;
+using accuracy::dimension_of;
+using accuracy::dynamic_viscosity;
+using accuracy::hydrodynamic_radius;
+using accuracy::reference_drag;
+using accuracy::run_to_steady;
+using accuracy::solid_fraction;
+using accuracy::SteadyRun;
+using Box = accuracy::ArrayBox;
 using testing::report;
-
-constexpr double kOmega = 1.0;  // the paper's choice
-constexpr double kRho0 = 1.0;
-constexpr double kTargetVelocity = 2e-6;  // relative velocity the load is set for (Re < 1e-3)
-constexpr double kSteadyTolerance = 1e-5;  // relative distance to the steady state at the stop
-constexpr long kMaxSteps = 200000;
-
-// Sangani & Acrivos (1982), square array of cylinders: F / (mu U), F per unit length, U superficial.
-double square_array_drag(double phi) {
-  return 4 * M_PI / (-0.5 * std::log(phi) - 0.738 + phi - 0.887 * phi * phi + 2.039 * phi * phi * phi);
-}
-
-// Sangani & Acrivos (1982), simple cubic array of spheres: K in F = 6 pi mu a U K, U superficial.
-double cubic_array_k(double phi) {
-  return 1.0 / (1 - 1.7601 * std::cbrt(phi) + phi - 1.5593 * phi * phi + 3.9799 * std::pow(phi, 8.0 / 3) -
-                3.0734 * std::pow(phi, 10.0 / 3));
-}
-
-// The reference's F / (mu U) for bodies of radius a, one per cell of the given area (2D) or volume.
-double reference_drag(int dimension, double a, double cell) {
-  if (dimension == 2) return square_array_drag(M_PI * a * a / cell);
-  return 6 * M_PI * a * cubic_array_k(4 * M_PI * a * a * a / (3 * cell));
-}
-
-double solid_fraction(int dimension, double a, double cell) {
-  return dimension == 2 ? M_PI * a * a / cell : 4 * M_PI * a * a * a / (3 * cell);
-}
-
-// The radius for which the reference gives `drag` (it grows with a over the range searched). With
-// `interstitial`, the radius it would give if the measured U were the interstitial mean velocity
-// U / (1 - phi) instead of the superficial one (for contrast only).
-double hydrodynamic_radius(int dimension, double drag, double cell, bool interstitial = false) {
-  double lo = 0.05, hi = 0.45 * std::pow(cell, 1.0 / dimension);
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    const double measured = interstitial ? drag * (1 - solid_fraction(dimension, mid, cell)) : drag;
-    (reference_drag(dimension, mid, cell) < measured ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
-
-// Radius of the disk (ball) with the area (volume) of the body's N unit cells.
-double cell_radius(int dimension, double particles) {
-  return dimension == 2 ? std::sqrt(particles / M_PI) : std::cbrt(3 * particles / (4 * M_PI));
-}
-
-// The no-slip surface through the outermost coupled nodes: half a spacing inside the cells.
-double wet_node_radius(int dimension, double particles) { return cell_radius(dimension, particles) - 0.5; }
-
-struct Box {
-  LatticeKind lattice = LatticeKind::kD2Q9;
-  int nx = 0, ny = 0, nz = 1;
-};
-
-int dimension_of(const Box& box) { return lattice_dimension(box.lattice); }
-
-// Area (2D) or volume of the box, and the viscosity, in lattice units. A D2Q7 node covers sqrt(3)/2.
-double cell_measure(const Box& box) {
-  const double nodes = static_cast<double>(box.nx) * box.ny * box.nz;
-  return box.lattice == LatticeKind::kD2Q7 ? nodes * lattice::D2Q7::row_spacing : nodes;
-}
-double viscosity(const Box& box) { return (1.0 / kOmega - 0.5) * (box.lattice == LatticeKind::kD2Q7 ? 0.25 : 1.0 / 3); }
-// Dynamic viscosity: rho0 per node is rho0 / (node area) per unit area on D2Q7.
-double dynamic_viscosity(const Box& box) {
-  return kRho0 * viscosity(box) * static_cast<double>(box.nx) * box.ny * box.nz / cell_measure(box);
-}
-
-struct SteadyRun {
-  double particles = 0;
-  double force = 0;        // total load on the body
-  double superficial = 0;  // U = v_body - <u>_nodes, steady
-  double body_velocity = 0;
-  double displacement = 0;  // of the body's centre of mass over the run
-  long steps = 0;
-  bool converged = false;
-  double seconds = 0;
-};
-
-// Runs `body` (its load set here) in the periodic box until steady. `expected_drag` (F / (mu U)) only
-// sets the load's scale, so that U is near kTargetVelocity.
-SteadyRun run_to_steady(const Box& box, solid::BodySpec body, double expected_drag) {
-  Scene s;
-  s.lattice = box.lattice;
-  s.fluid.nx = box.nx;
-  s.fluid.ny = box.ny;
-  s.fluid.nz = box.nz;
-  s.fluid.omega = kOmega;
-  s.fluid.rho0 = kRho0;
-  const int dimension = dimension_of(box);
-  SteadyRun run;
-  run.particles = static_cast<double>(solid::body_labels(body, dimension).size());
-  const double nodes = static_cast<double>(box.nx) * box.ny * box.nz;
-  run.force = expected_drag * dynamic_viscosity(box) * kTargetVelocity;
-  body.load = {run.force / run.particles, 0, 0};
-  s.fluid.body_force = {-run.force / nodes, 0, 0};  // the applied forces cancel
-  s.bodies.push_back(body);
-  const auto start = std::chrono::steady_clock::now();
-  auto sim = build_simulation(s);
-  const double x0 = sim->body_state(0).centre_of_mass[0];
-  // Sample every 0.2 of the box's slowest viscous time L^2 / (4 pi^2 nu) (L its largest extent): the
-  // monitor reads the geometric decay of the change between samples, and only counts a decay faster
-  // than 0.95 per sample (slower looks like a plateau); exp(-0.2) = 0.82.
-  const double extent = std::max({static_cast<double>(box.nx), static_cast<double>(box.nz),
-                                   box.lattice == LatticeKind::kD2Q7 ? box.ny * lattice::D2Q7::row_spacing
-                                                                     : static_cast<double>(box.ny)});
-  const long every = std::max(50L, std::lround(0.2 * extent * extent / (4 * M_PI * M_PI * viscosity(box))));
-  accuracy::SteadyMonitor monitor(kSteadyTolerance, kTargetVelocity);
-  while (run.steps < kMaxSteps) {
-    sim->run(every);
-    run.steps += every;
-    const FluidFields fields = sim->fluid_fields();
-    double sum = 0;
-    for (std::size_t k = 0; k < fields.density.size(); ++k) sum += fields.velocity[3 * k];
-    run.body_velocity = sim->body_state(0).velocity[0];
-    run.superficial = run.body_velocity - sum / nodes;
-    if (monitor.update({run.superficial, run.body_velocity})) break;
-  }
-  run.converged = monitor.converged();
-  run.displacement = sim->body_state(0).centre_of_mass[0] - x0;
-  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return run;
-}
-
-struct ArrayResult {
-  std::string label;
-  int dimension = 2;
-  double cell = 0;  // area or volume per body
-  SteadyRun run;
-  double drag = 0;       // measured F / (mu U)
-  double a_cells = 0, a_wet = 0, a_hydro = 0;
-  double reynolds = 0;   // 2 a_w U / nu
-  double error_cells = 0;  // drag / reference(a_cells) - 1
-  double error_wet = 0;    // drag / reference(a_w) - 1
-  double band_low = 0, band_high = 0;  // reference(a_w -+ 1/2) / reference(a_w) - 1
-};
 
 // One body of `radius` (a disk or a ball of particles) centred on a node of the box.
 ArrayResult periodic_array(const Box& box, double radius, const std::string& label) {
-  const int dimension = dimension_of(box);
-  solid::BodySpec body;
-  body.name = label;
-  body.shape = solid::BodyShape::kDisk;
-  body.radius = radius;
-  if (box.lattice == LatticeKind::kD2Q7) {
-    const int row = 2 * (box.ny / 4);  // an even row: its nodes sit at integer x
-    body.centre = {static_cast<double>(box.nx / 2), row * lattice::D2Q7::row_spacing, 0};
-  } else {
-    body.centre = {static_cast<double>(box.nx / 2), static_cast<double>(box.ny / 2),
-                   dimension == 3 ? static_cast<double>(box.nz / 2) : 0.0};
-  }
-  ArrayResult r;
-  r.label = label;
-  r.dimension = dimension;
-  r.cell = cell_measure(box);
-  const double particles = static_cast<double>(solid::body_labels(body, dimension).size());
-  r.a_cells = cell_radius(dimension, particles);
-  r.a_wet = wet_node_radius(dimension, particles);
-  r.run = run_to_steady(box, body, reference_drag(dimension, r.a_wet, r.cell));
-  r.drag = r.run.force / (dynamic_viscosity(box) * r.run.superficial);
-  r.a_hydro = hydrodynamic_radius(dimension, r.drag, r.cell);
-  r.reynolds = 2 * r.a_wet * r.run.superficial / viscosity(box);
-  const double at_wet = reference_drag(dimension, r.a_wet, r.cell);
-  r.error_cells = r.drag / reference_drag(dimension, r.a_cells, r.cell) - 1;
-  r.error_wet = r.drag / at_wet - 1;
-  r.band_low = reference_drag(dimension, r.a_wet - 0.5, r.cell) / at_wet - 1;
-  r.band_high = reference_drag(dimension, r.a_wet + 0.5, r.cell) / at_wet - 1;
-  return r;
+  return accuracy::periodic_array(box, radius, label);
 }
 
 void print_table(const std::vector<ArrayResult>& results) {
@@ -350,7 +198,7 @@ double slab_wall_shift(LatticeKind lattice, int box, int rows, int width) {
   EXPECT_TRUE(run.converged) << "slab not steady after " << run.steps << " steps";
   const double g = run.force / cell_measure(b);  // driving force per unit area (volume)
   const double q = run.superficial * box;         // flux relative to the slab, per unit width
-  const double h = std::cbrt(12 * dynamic_viscosity(b) * q / g);
+  const double h = std::cbrt(12 * dynamic_viscosity(b, {}) * q / g);
   std::printf("  %s slab of %d rows in %d: effective gap %.4f, geometric %.0f, wall %.4f inside the cells (%ld steps)\n",
               lattice_kind_name(lattice), rows, box, h, gap, (h - gap) / 2, run.steps);
   return (h - gap) / 2;
