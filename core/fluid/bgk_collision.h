@@ -1,17 +1,16 @@
 #pragma once
-// BGK collision (MODEL.md eq. 1) with Guo's second-order forcing, on populations stored as the
-// deviation from rest, f~_i = f_i - w_i rho0, which keeps float storage accurate (the rest part
-// is ~10^2 times the flow part and would otherwise eat the mantissa).
+// BGK collision (MODEL.md eq. 1) with Guo's second-order forcing (guo_forcing.h), on populations
+// stored as the deviation from rest, f~_i = f_i - w_i rho0, which keeps float storage accurate
+// (the rest part is ~10^2 times the flow part and would otherwise eat the mantissa).
 //
 // The directions are unrolled at compile time so that products with a zero velocity component
 // vanish from the code: a compiler may not drop `x * 0` itself (NaN * 0 is NaN), and on D3Q19
 // those products were most of the arithmetic.
 #include <utility>
 
-// The collision must be inlined into the cell loop for that loop to vectorise.
-#define LBSOLID_FORCE_INLINE inline __attribute__((always_inline))
-
 #include "fluid/fluid_config.h"
+#include "fluid/force_inline.h"
+#include "fluid/guo_forcing.h"
 #include "lattice/lattice_traits.h"
 
 namespace lbsolid::fluid {
@@ -20,6 +19,7 @@ template <class L, class T>
 struct BgkCollision {
   static constexpr int Q = L::Q;
   static constexpr T kInvCs2 = T(1.0 / L::cs2);
+  using Guo = GuoForcing<L, T>;
   // What the kernels hand to collide() for every cell (TRT needs two rates; BGK has one).
   using Rates = T;
   static Rates rates(const FluidConfig& config) { return static_cast<T>(config.omega); }
@@ -63,9 +63,9 @@ struct BgkCollision {
     j[2] = L::D == 3 ? first_moment<2>(f, dirs) : T(0);
   }
 
-  // What every collision operator needs of a node before it relaxes: density, the velocity
-  // (sum f c + F/2) / rho (Guo et al. 2002: the momentum gained is then exactly F), |u|^2, the
-  // equilibrium terms common to every direction, and u.F.
+  // What every collision operator needs of a node before it relaxes: density, the velocity (with
+  // a force, Guo's (sum f c + F/2) / rho), |u|^2, the equilibrium terms common to every
+  // direction, and u.F.
   struct NodeState {
     T rho;
     T u[3];
@@ -80,11 +80,11 @@ struct BgkCollision {
     T j[3];
     moments(f, rho0, s.rho, j);
     const T inv_rho = T(1) / s.rho;
-    for (int a = 0; a < 3; ++a) s.u[a] = kForce ? (j[a] + T(0.5) * force[a]) * inv_rho : j[a] * inv_rho;
+    for (int a = 0; a < 3; ++a) s.u[a] = kForce ? Guo::velocity(j[a], force[a], inv_rho) : j[a] * inv_rho;
     if constexpr (L::D == 2) s.u[2] = 0;
     s.usq = s.u[0] * s.u[0] + s.u[1] * s.u[1] + s.u[2] * s.u[2];
     s.isotropic = (s.rho - rho0) - T(0.5) * s.rho * s.usq * kInvCs2;
-    s.u_dot_force = kForce ? s.u[0] * force[0] + s.u[1] * force[1] + s.u[2] * force[2] : T(0);
+    s.u_dot_force = kForce ? Guo::u_dot_force(s.u, force) : T(0);
     return s;
   }
 
@@ -95,8 +95,8 @@ struct BgkCollision {
                                                 T(0.5) * usq * kInvCs2));
   }
 
-  // One collision in place. With kForce, F is the force on this node and the velocity in the
-  // equilibrium is (sum f c + F/2) / rho (Guo et al. 2002), so the momentum gained is exactly F.
+  // One collision in place. With kForce, F is the force on this node, applied by Guo's scheme
+  // (guo_forcing.h): the momentum gained is exactly F.
   template <bool kForce>
   static LBSOLID_FORCE_INLINE void collide(T* f, T omega, T rho0, const T (&force)[3]) {
     collide_directions<kForce>(f, omega, rho0, force, std::make_integer_sequence<int, Q>{});
@@ -114,10 +114,7 @@ struct BgkCollision {
       const T cu = c_dot<K>(u);
       const T feq = T(L::w[K]) * (isotropic + rho * cu * (kInvCs2 + T(0.5) * cu * kInvCs2 * kInvCs2));
       f[K] += omega * (feq - f[K]);
-      if constexpr (kForce) {
-        const T cf = c_dot<K>(force);
-        f[K] += source_scale * T(L::w[K]) * ((cf - u_dot_force) * kInvCs2 + cu * cf * kInvCs2 * kInvCs2);
-      }
+      if constexpr (kForce) f[K] += Guo::template source<K>(source_scale, cu, c_dot<K>(force), u_dot_force);
     };
     (relax(std::integral_constant<int, I>{}), ...);
   }

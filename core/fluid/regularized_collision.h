@@ -1,15 +1,15 @@
 #pragma once
 // Regularized BGK (Latt & Chopard 2006) with Guo's forcing, on the shifted populations of
-// bgk_collision.h. BGK with Guo's source S_i = w_i ((c_i - u).F/c_s^2 + (c_i.u)(c_i.F)/c_s^4) is
+// bgk_collision.h. BGK with Guo's source S_i (guo_forcing.h) is
 //   f_i* = feq_i + (1 - omega) g_i + S_i/2,   g_i = f_i - feq_i + S_i/2,
 // (expand: f - omega (f - feq) + (1 - omega/2) S). The regularized operator keeps only the part
 // of g a hydrodynamic state has, its second-order Hermite projection:
 //   g_i -> w_i/(2 c_s^4) Q_i : Pi,   Q_i = c_i c_i - c_s^2 I,
 //   Pi = sum_i g_i c_i c_i = sum_i f_i c_i c_i - (rho c_s^2 I + rho u u) + (u F + F u)/2,
-// the last term being the second moment of S/2 (the force correction that makes Pi the
-// physical non-equilibrium stress). u = (sum f c + F/2)/rho as in BGK. The projection returns Pi
-// exactly (sum_i w_i c_i c_i Q_i : Pi/(2 c_s^4) = Pi) on any lattice whose weights are isotropic
-// to fourth order, sum w c_a c_b c_c c_d = c_s^4 (d_ab d_cd + d_ac d_bd + d_ad d_bc): D2Q9 and
+// the last term being the second moment of S/2 (guo_forcing.h) and u Guo's velocity, as in BGK.
+// The projection returns Pi exactly (sum_i w_i c_i c_i Q_i : Pi/(2 c_s^4) = Pi) on any lattice
+// whose weights are isotropic to fourth order,
+// sum w c_a c_b c_c c_d = c_s^4 (d_ab d_cd + d_ac d_bd + d_ad d_bc): D2Q9 and
 // D3Q19 with c_s^2 = 1/3, and the hexagonal D2Q7 with c_s^2 = 1/4 (6 (1/12) (1 + 2/16) = 3/16).
 // It carries no mass and no momentum, so mass is conserved and momentum grows by exactly F.
 // The viscosity is BGK's, c_s^2 (1/omega - 1/2).
@@ -25,6 +25,7 @@ struct RegularizedCollision {
   static constexpr int Q = L::Q;
   static constexpr int D = L::D;
   static constexpr T kInvCs2 = Base::kInvCs2;
+  using Guo = GuoForcing<L, T>;
 
   static Rates rates(const FluidConfig& config) { return static_cast<T>(config.omega); }
 
@@ -100,14 +101,11 @@ struct RegularizedCollision {
     }
     // Terms common to every direction: equilibrium, -c_s^2 tr(Pi) of Q_i : Pi, and S/2's -u.F.
     T isotropic = s.isotropic - scale * T(L::cs2) * trace;
-    if constexpr (kForce) isotropic -= T(0.5) * u_dot_force * kInvCs2;
+    if constexpr (kForce) isotropic += Guo::half_source_isotropic(u_dot_force);
     auto rebuild = [&]<int K>(std::integral_constant<int, K>) __attribute__((always_inline)) {
       const T cu = Base::template c_dot<K>(u);
       T g = isotropic + rho * cu * (kInvCs2 + T(0.5) * cu * kInvCs2 * kInvCs2) + contract<K>(m);
-      if constexpr (kForce) {
-        const T cf = Base::template c_dot<K>(force);
-        g += T(0.5) * (cf * kInvCs2 + cu * cf * kInvCs2 * kInvCs2);
-      }
+      if constexpr (kForce) g += Guo::half_source_directional(cu, Base::template c_dot<K>(force));
       f[K] = T(L::w[K]) * g;
     };
     (rebuild(std::integral_constant<int, I>{}), ...);
@@ -119,7 +117,7 @@ struct RegularizedCollision {
                                        std::integer_sequence<int, I...> dirs) {
     T p = second_moment<A, B>(f, dirs) - rho * u[A] * u[B];
     if constexpr (A == B) p -= pressure;
-    if constexpr (kForce) p += T(0.5) * (u[A] * force[B] + force[A] * u[B]);
+    if constexpr (kForce) p += Guo::template half_source_second_moment<A, B>(u, force);
     return p;
   }
 };

@@ -4,8 +4,8 @@
 //   f+_i = (f_i + f_ibar)/2 (even),  f-_i = (f_i - f_ibar)/2 (odd),  and likewise feq+-, S+-.
 // The collision is
 //   f_i* = f_i - w+ (f+_i - feq+_i) - w- (f-_i - feq-_i) + (1 - w+/2) S+_i + (1 - w-/2) S-_i,
-// with feq the BGK equilibrium at u = (sum f c + F/2)/rho and Guo's source split by parity:
-//   S+_i = w_i ((c_i.u)(c_i.F)/c_s^4 - u.F/c_s^2),   S-_i = w_i (c_i.F)/c_s^2.
+// with feq the BGK equilibrium at Guo's velocity and S+- the even and odd parts of Guo's source
+// (both in guo_forcing.h).
 // w+ = omega sets the viscosity nu = c_s^2 (1/w+ - 1/2); w- follows from the magic parameter
 //   Lambda = (1/w+ - 1/2)(1/w- - 1/2).
 // Every steady solution depends on omega only through Lambda; Lambda = 3/16 puts half-way
@@ -23,6 +23,7 @@ struct TrtCollision {
   using Base = BgkCollision<L, T>;
   static constexpr int Q = L::Q;
   static constexpr T kInvCs2 = Base::kInvCs2;
+  using Guo = GuoForcing<L, T>;
 
   struct Rates {
     T plus;   // even (symmetric) part: the viscosity
@@ -57,8 +58,8 @@ struct TrtCollision {
     const auto s = Base::template node_state<kForce>(f, rho0, force);
     const T rho = s.rho, isotropic = s.isotropic, u_dot_force = s.u_dot_force;
     const T(&u)[3] = s.u;
-    const T even_source = T(1) - T(0.5) * rates.plus;
-    const T odd_source = T(1) - T(0.5) * rates.minus;
+    const T even_scale = T(1) - T(0.5) * rates.plus;  // of S+
+    const T odd_scale = T(1) - T(0.5) * rates.minus;  // of S-
     // Each pair is handled once, by its lower index; the rest population is its own pair and has
     // no odd part.
     auto relax = [&]<int K>(std::integral_constant<int, K>) __attribute__((always_inline)) {
@@ -66,7 +67,8 @@ struct TrtCollision {
       if constexpr (B == K) {
         T feq = T(L::w[K]) * isotropic;
         f[K] += rates.plus * (feq - f[K]);
-        if constexpr (kForce) f[K] -= even_source * T(L::w[K]) * u_dot_force * kInvCs2;
+        // c = 0: the source has no c.u, c.F and no odd part.
+        if constexpr (kForce) f[K] += Guo::template even_source<K>(even_scale, T(0), T(0), u_dot_force);
       } else if constexpr (K < B) {
         const T cu = Base::template c_dot<K>(u);
         const T feq_even = T(L::w[K]) * (isotropic + T(0.5) * rho * cu * cu * kInvCs2 * kInvCs2);
@@ -75,8 +77,8 @@ struct TrtCollision {
         T d_odd = rates.minus * (feq_odd - T(0.5) * (f[K] - f[B]));
         if constexpr (kForce) {
           const T cf = Base::template c_dot<K>(force);
-          d_even += even_source * T(L::w[K]) * (cu * cf * kInvCs2 - u_dot_force) * kInvCs2;
-          d_odd += odd_source * T(L::w[K]) * cf * kInvCs2;
+          d_even += Guo::template even_source<K>(even_scale, cu, cf, u_dot_force);
+          d_odd += Guo::template odd_source<K>(odd_scale, cf);
         }
         f[K] += d_even + d_odd;
         f[B] += d_even - d_odd;
