@@ -50,13 +50,13 @@ bool is_final(v1::SessionState state) {
   return state == v1::SESSION_STATE_FAILED || state == v1::SESSION_STATE_CANCELLED;
 }
 
-Session::Session(SessionSetup setup)
+Session::Session(SessionSetup setup, std::shared_ptr<parallel::ThreadPool> fluid_pool)
     : id_(std::move(setup.id)),
       request_id_(std::move(setup.request_id)),
       scenario_(std::move(setup.scenario)),
       created_unix_ms_(setup.created_unix_ms),
       warnings_(setup.translated.warnings),
-      sim_(scene::build_simulation(setup.translated.scene, std::move(setup.fluid_pool))) {
+      sim_(scene::build_simulation(setup.translated.scene, std::move(fluid_pool))) {
   refresh_sizes();
 }
 

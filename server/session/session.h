@@ -35,8 +35,6 @@ struct SessionSetup {
   v1::Scenario scenario;
   TranslatedScenario translated;  // must be ok()
   long long created_unix_ms = 0;
-  // The threads its fluid steps run on, shared with the daemon's other sessions; none: its own.
-  std::shared_ptr<parallel::ThreadPool> fluid_pool;
 };
 
 struct FieldData {
@@ -57,8 +55,10 @@ class Session {
  public:
   using Clock = std::chrono::steady_clock;
 
-  // Builds the simulation (throws std::invalid_argument if the scene cannot be built).
-  explicit Session(SessionSetup setup);
+  // Builds the simulation (throws std::invalid_argument if the scene cannot be built). Its fluid
+  // steps run on `fluid_pool`, shared with the daemon's other sessions; without one, on threads
+  // of its own.
+  explicit Session(SessionSetup setup, std::shared_ptr<parallel::ThreadPool> fluid_pool = nullptr);
   ~Session();
 
   const std::string& id() const { return id_; }

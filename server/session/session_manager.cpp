@@ -114,9 +114,8 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::reserve_locked(std::uni
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::build(SessionSetup setup) const {
   if (!setup.translated.ok()) return absl::InvalidArgumentError(error_summary(setup.translated.errors));
-  setup.fluid_pool = fluid_pool_;
   try {
-    return std::make_shared<Session>(std::move(setup));
+    return std::make_shared<Session>(std::move(setup), fluid_pool_);
   } catch (const std::invalid_argument& e) {
     return absl::InvalidArgumentError(e.what());
   } catch (const std::bad_alloc&) {
