@@ -6,7 +6,8 @@
 // Then the collision operators (BGK, TRT, regularized) side by side: D2Q9 and D3Q19, double, in
 // place, one thread, on the same grid.
 // Then the scene benchmarks (bench/scene_bench.h): the builder's overhead on a fluid-only scene,
-// a solid-only scene's memory, and coupled steps at 0.1 and 1 particle per cell.
+// a solid-only scene's memory, and coupled steps at 0.1 and 1 particle per cell, with one thread
+// and, with --threads N, with N fluid threads too (and the speed-up).
 //   lbsolid-bench [--json] [--quick] [--threads N] [--scenes-only]
 #include <algorithm>
 #include <chrono>
@@ -155,7 +156,9 @@ int main(int argc, char** argv) {
     }
   }
 
-  const std::vector<SceneRow> scene_rows = run_scene_benchmarks(quick);
+  std::vector<SceneRow> scene_rows;
+  for (int threads : thread_counts)
+    for (SceneRow& row : run_scene_benchmarks(quick, threads)) scene_rows.push_back(std::move(row));
   if (json) {
     std::printf("{\n  \"last_level_cache_bytes\": %zu,\n  \"working_set_bytes\": %zu,\n  \"results\": [\n", llc,
                 working_set);

@@ -33,9 +33,10 @@ double seconds_per_step(Stepper&& step, double min_seconds) {
 }
 
 // A D2Q7 box periodic in x between bounce-back walls, n x n nodes, the paper's omega = 1.
-Scene paper_box(int n) {
+Scene paper_box(int n, int threads) {
   Scene s;
   s.lattice = scene::LatticeKind::kD2Q7;
+  s.fluid.threads = threads;
   s.fluid.nx = n;
   s.fluid.ny = n;
   s.fluid.omega = 1.0;
@@ -67,14 +68,14 @@ void add_sheets(Scene& s, double per_cell) {
 
 }  // namespace
 
-std::vector<SceneRow> run_scene_benchmarks(bool quick) {
+std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads) {
   std::vector<SceneRow> rows;
   const double min_seconds = quick ? 0.5 : 2.0;
   const int n = quick ? 512 : 1024;
 
   // 1. A fluid-only scene through the builder against the bare kernel, interleaved A/B/A/B.
   {
-    Scene s = paper_box(n);
+    Scene s = paper_box(n, threads);
     auto sim = scene::build_simulation(s);
     fluid::FluidLattice<lattice::D2Q7, double> bare(s.fluid);
     // Many short alternating rounds, best of each: on a shared machine a single long round of
@@ -84,22 +85,22 @@ std::vector<SceneRow> run_scene_benchmarks(bool quick) {
       built = std::min(built, seconds_per_step([&] { sim->step(); }, 0.5 * min_seconds));
       plain = std::min(plain, seconds_per_step([&] { bare.step(); }, 0.5 * min_seconds));
     }
-    rows.push_back({"fluid-only scene vs bare kernel", "D2Q7", bare.cells(), 0, built, plain,
+    rows.push_back({"fluid-only scene vs bare kernel", "D2Q7", threads, bare.cells(), 0, built, plain,
                     static_cast<double>(sim->fluid_bytes()), static_cast<double>(sim->solid_bytes())});
   }
   // 2. A solid-only scene (the paper's Fig. 1 kind): no fluid storage at all.
   {
-    Scene s = paper_box(n);
+    Scene s = paper_box(n, threads);
     s.with_fluid = false;
     add_sheets(s, 0.1);
     auto sim = scene::build_simulation(s);
     const double t = seconds_per_step([&] { sim->step(); }, min_seconds);
-    rows.push_back({"solid-only scene", "D2Q7", 0, sim->solid()->particle_count(), t, 0,
+    rows.push_back({"solid-only scene", "D2Q7", threads, 0, sim->solid()->particle_count(), t, 0,
                     static_cast<double>(sim->fluid_bytes()), static_cast<double>(sim->solid_bytes())});
   }
   // 3. Coupled steps at 0.1 and 1 particle per fluid cell, against the fluid-only step.
   for (double per_cell : {0.1, 1.0}) {
-    Scene fluid_only = paper_box(n), coupled = paper_box(n);
+    Scene fluid_only = paper_box(n, threads), coupled = paper_box(n, threads);
     add_sheets(coupled, per_cell);
     auto a = scene::build_simulation(fluid_only);
     auto b = scene::build_simulation(coupled);
@@ -110,25 +111,40 @@ std::vector<SceneRow> run_scene_benchmarks(bool quick) {
     }
     char what[64];
     std::snprintf(what, sizeof what, "coupled, %.1f particles per cell", per_cell);
-    rows.push_back({what, "D2Q7", static_cast<long>(n) * n, b->solid()->particle_count(), with_solid, plain,
+    rows.push_back({what, "D2Q7", threads, static_cast<long>(n) * n, b->solid()->particle_count(), with_solid, plain,
                     static_cast<double>(b->fluid_bytes()), static_cast<double>(b->solid_bytes())});
   }
   return rows;
 }
 
 void print_scene_rows(const std::vector<SceneRow>& rows) {
-  std::printf("\nscenes (D2Q7 double, one thread): what the builder adds, and what solids cost\n");
-  std::printf("%-36s %9s %10s %12s %12s %9s %12s %12s %13s\n", "scene", "cells", "particles", "ms/step", "ref ms/step",
-              "ratio", "fluid MiB", "solid MiB", "ns/particle");
+  std::printf("\nscenes (D2Q7 double): what the builder adds, and what solids cost\n");
+  std::printf("%-36s %7s %9s %10s %12s %12s %9s %12s %12s %13s\n", "scene", "threads", "cells", "particles", "ms/step",
+              "ref ms/step", "ratio", "fluid MiB", "solid MiB", "ns/particle");
   for (const SceneRow& r : rows) {
     const bool compared = r.reference_seconds > 0;
     const double per_particle =
         r.particles ? 1e9 * (r.step_seconds - (compared && r.cells ? r.reference_seconds : 0)) / r.particles : 0;
-    std::printf("%-36s %9ld %10ld %12.3f %12s %9s %12.2f %12.2f %13s\n", r.what.c_str(), r.cells, r.particles,
+    std::printf("%-36s %7d %9ld %10ld %12.3f %12s %9s %12.2f %12.2f %13s\n", r.what.c_str(), r.threads, r.cells,
+                r.particles,
                 1e3 * r.step_seconds, compared ? std::to_string(1e3 * r.reference_seconds).substr(0, 7).c_str() : "-",
                 compared ? std::to_string(r.step_seconds / r.reference_seconds).substr(0, 5).c_str() : "-",
                 r.fluid_bytes / 1048576.0, r.solid_bytes / 1048576.0,
                 r.particles ? std::to_string(per_particle).substr(0, 6).c_str() : "-");
+  }
+  // Speed-up of each scene (and of its reference step) with threads, against its one-thread row.
+  bool header = false;
+  for (const SceneRow& r : rows) {
+    if (r.threads == 1) continue;
+    for (const SceneRow& one : rows) {
+      if (one.threads != 1 || one.what != r.what) continue;
+      if (!header) std::printf("\n%-36s %7s %12s %16s\n", "speed-up over one thread", "threads", "step", "reference step");
+      header = true;
+      std::printf("%-36s %7d %11.2fx %15s\n", r.what.c_str(), r.threads, one.step_seconds / r.step_seconds,
+                  r.reference_seconds > 0
+                      ? (std::to_string(one.reference_seconds / r.reference_seconds).substr(0, 4) + "x").c_str()
+                      : "-");
+    }
   }
 }
 
@@ -136,9 +152,9 @@ void print_scene_rows_json(const std::vector<SceneRow>& rows) {
   std::printf("  \"scenes\": [\n");
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const SceneRow& r = rows[k];
-    std::printf("    {\"scene\": \"%s\", \"lattice\": \"%s\", \"cells\": %ld, \"particles\": %ld, \"seconds_per_step\": %.6g, "
+    std::printf("    {\"scene\": \"%s\", \"lattice\": \"%s\", \"threads\": %d, \"cells\": %ld, \"particles\": %ld, \"seconds_per_step\": %.6g, "
                 "\"reference_seconds_per_step\": %.6g, \"fluid_bytes\": %.0f, \"solid_bytes\": %.0f}%s\n",
-                r.what.c_str(), r.lattice.c_str(), r.cells, r.particles, r.step_seconds, r.reference_seconds,
+                r.what.c_str(), r.lattice.c_str(), r.threads, r.cells, r.particles, r.step_seconds, r.reference_seconds,
                 r.fluid_bytes, r.solid_bytes, k + 1 < rows.size() ? "," : "");
   }
   std::printf("  ]\n");

@@ -9,6 +9,7 @@ namespace lbsolid::bench {
 struct SceneRow {
   std::string what;    // which measurement
   std::string lattice;
+  int threads = 1;     // the fluid's threads (the solid and the coupling run on the stepping thread)
   long cells = 0;      // fluid cells (0 without fluid)
   long particles = 0;  // solid particles
   double step_seconds = 0;      // best seconds per step
@@ -16,7 +17,8 @@ struct SceneRow {
   double fluid_bytes = 0, solid_bytes = 0;
 };
 
-std::vector<SceneRow> run_scene_benchmarks(bool quick);
+std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads);
+// The rows, then for each scene measured with more than one thread its speed-up over one thread.
 void print_scene_rows(const std::vector<SceneRow>& rows);
 void print_scene_rows_json(const std::vector<SceneRow>& rows);
 
