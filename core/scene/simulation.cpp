@@ -22,8 +22,10 @@ template <class L, class T>
 class SimulationImpl final : public Simulation {
  public:
   SimulationImpl(const Scene& scene, std::shared_ptr<parallel::ThreadPool> pool)
-      : scene_(scene), locator_(scene.fluid) {
-    if (scene.with_fluid) fluid_ = std::make_unique<fluid::FluidLattice<L, T>>(scene.fluid, std::move(pool));
+      : scene_(scene),
+        locator_(scene.fluid),
+        pool_(pool ? std::move(pool) : std::make_shared<parallel::ThreadPool>(scene.fluid.threads)) {
+    if (scene.with_fluid) fluid_ = std::make_unique<fluid::FluidLattice<L, T>>(scene.fluid, pool_);
     if (scene.bodies.empty()) return;
     solid_ = std::make_unique<solid::SolidSystem>(L::D);
     for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
@@ -50,11 +52,14 @@ class SimulationImpl final : public Simulation {
 
   void step() override {
     const std::vector<coupling::NodeExchange>* exchanged = nullptr;
+    const int parts = scene_.fluid.threads;
     if (exchange_) {
-      for (int p = 0; p < solid_->particle_count(); ++p) {
-        node_[p] = locator_.nearest(solid_->position(p));
-        cell_[p] = locator_.cell(node_[p]);
-      }
+      pool_->parallel_for(solid_->particle_count(), parts, [&](long first, long end) {
+        for (long p = first; p < end; ++p) {
+          node_[p] = locator_.nearest(solid_->position(static_cast<int>(p)));
+          cell_[p] = locator_.cell(node_[p]);
+        }
+      });
       exchanged = &exchange_->compute(
           node_, cell_, solid_->masses(), solid_->momenta(),
           [&](const coupling::Node& at) { return fluid_->moments(at[0], at[1], at[2]); }, dp_);
@@ -65,13 +70,15 @@ class SimulationImpl final : public Simulation {
         for (const auto& e : *exchanged) fluid_->add_momentum(e.node[0], e.node[1], e.node[2], e.momentum);
     }
     if (solid_) {
-      const int n = solid_->particle_count();
-      for (int p = 0; p < n; ++p) force_[p] = loads_ ? solid_->body(solid_->body_of(p)).load : Vec3{0, 0, 0};
-      if (exchange_)
-        for (int p = 0; p < n; ++p)
-          for (int a = 0; a < 3; ++a) force_[p][a] -= dp_[p][a];
+      pool_->parallel_for(solid_->particle_count(), parts, [&](long first, long end) {
+        for (long p = first; p < end; ++p) {
+          force_[p] = loads_ ? solid_->body(solid_->body_of(static_cast<int>(p))).load : Vec3{0, 0, 0};
+          if (exchange_)
+            for (int a = 0; a < 3; ++a) force_[p][a] -= dp_[p][a];
+        }
+      });
       if (walls_.any()) solid::add_wall_contact(walls_, *solid_, force_);
-      solid_->step(force_);
+      solid_->step(force_, pool_.get(), parts);
     }
     ++steps_;
     // After the step is complete, so a throw leaves a consistent state at step N to read or save.
@@ -193,12 +200,6 @@ class SimulationImpl final : public Simulation {
     steps_ = state.step;
   }
 
-  void set_threads(int threads) override {
-    if (threads < 1) throw std::invalid_argument("threads: must be at least 1, got " + std::to_string(threads));
-    if (fluid_) fluid_->set_threads(threads);
-    scene_.fluid.threads = threads;
-  }
-
  private:
   const fluid::FluidLattice<L, T>& require_fluid(const char* what) const {
     if (!fluid_) throw std::logic_error(std::string(what) + ": the scene has no fluid");
@@ -207,6 +208,9 @@ class SimulationImpl final : public Simulation {
 
   Scene scene_;
   coupling::NodeLocator<L> locator_;
+  // Runs the fluid's rows and the per-particle stages (nearest node, forces, solid update) in
+  // scene_.fluid.threads parts: a daemon's shared pool, or one of the simulation's own.
+  std::shared_ptr<parallel::ThreadPool> pool_;
   std::unique_ptr<fluid::FluidLattice<L, T>> fluid_;
   std::unique_ptr<solid::SolidSystem> solid_;
   std::unique_ptr<coupling::MomentumExchange> exchange_;

@@ -94,14 +94,13 @@ class Simulation {
   virtual SimulationState save_state() const = 0;
   // Throws std::invalid_argument naming what does not match this simulation's scene.
   virtual void load_state(const SimulationState& state) = 0;
-  // Parts each fluid step is cut into: threads of its own pool, or parts for a shared pool
-  // (results do not depend on it).
-  virtual void set_threads(int threads) = 0;
 };
 
 // Throws std::invalid_argument listing every problem (validate_scene) if the scene cannot run.
-// With `pool`, the fluid's steps run on it in scene.fluid.threads parts, sharing its threads with
-// whatever else uses it; without, the fluid starts scene.fluid.threads - 1 threads of its own.
+// Each step's fluid rows and per-particle stages (nearest node, forces, solid update) are cut into
+// scene.fluid.threads parts, run on `pool` (sharing its threads with whatever else uses it) or,
+// without one, on scene.fluid.threads - 1 threads of the simulation's own. Results do not depend
+// on either.
 std::unique_ptr<Simulation> build_simulation(const Scene& scene,
                                              std::shared_ptr<parallel::ThreadPool> pool = nullptr);
 

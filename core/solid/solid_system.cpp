@@ -1,6 +1,7 @@
 #include "solid/solid_system.h"
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <stdexcept>
 
@@ -52,9 +53,20 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
   return body;
 }
 
-void SolidSystem::step(const std::vector<Vec3>& force) {
+void SolidSystem::step(const std::vector<Vec3>& force, parallel::ThreadPool* pool, int parts) {
   const int n = particle_count();
-  for (int p = 0; p < n; ++p) {
+  auto for_parts = [&](const std::function<void(long, long)>& range) {
+    if (pool) pool->parallel_for(n, parts, range);
+    else range(0, n);
+  };
+  for_parts([&](long first, long end) { advance(force, static_cast<int>(first), static_cast<int>(end)); });
+  incoming_.swap(outgoing_);
+  for_parts([&](long first, long end) { update_momentum(static_cast<int>(first), static_cast<int>(end)); });
+}
+
+// Eq. 7 and the wave rule for particles [first, end): positions, and the vectors each sends.
+void SolidSystem::advance(const std::vector<Vec3>& force, int first, int end) {
+  for (int p = first; p < end; ++p) {
     const Vec3& psi = momentum_[p];
     const double inv_m = 1.0 / mass_[p];
     Vec3 base;  // Psi/M + F/(2M): the displacement, and the common part of every outgoing vector
@@ -68,8 +80,6 @@ void SolidSystem::step(const std::vector<Vec3>& force) {
     }
     for (int a = 0; a < 3; ++a) positions_[p][a] += base[a];
   }
-  incoming_.swap(outgoing_);
-  update_momentum(0, n);
 }
 
 Vec3 SolidSystem::rest_separation(int p, int k) const {

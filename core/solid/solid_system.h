@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "parallel/thread_pool.h"
 #include "solid/body_shape.h"
 #include "solid/solid_topology.h"
 
@@ -42,7 +43,10 @@ class SolidSystem {
                const Vec3& centre, const Vec3& velocity, const Vec3& load);
 
   // One step with the total external force on every particle (loads included by the caller).
-  void step(const std::vector<Vec3>& force);
+  // With a pool, the particles are cut into `parts` ranges run on it: each particle writes only
+  // its own position and the one outgoing slot of each of its links, so the result is the same
+  // bit for bit.
+  void step(const std::vector<Vec3>& force, parallel::ThreadPool* pool = nullptr, int parts = 1);
 
   const SolidTopology& topology() const { return topology_; }
   int dimension() const { return topology_.dimension; }
@@ -84,6 +88,7 @@ class SolidSystem {
   std::vector<Vec3> outgoing_;   // written by step(), then swapped in
   std::vector<Vec3> momentum_;   // Psi of the incoming vectors: read by the exchange, contact and step
   void update_momentum(int first, int end);
+  void advance(const std::vector<Vec3>& force, int first, int end);
 };
 
 }  // namespace lbsolid::solid
