@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "coupling/node_locator.h"
+#include "parallel/thread_pool.h"
 
 namespace lbsolid::coupling {
 
@@ -26,13 +27,17 @@ class MomentumExchange {
 
   // `node[p]`, `cell[p]`, `mass[p]`, `momentum[p]` describe particle p; `fluid_at(node)` returns
   // the pre-collision fluid Moments there. Fills `particle_dp` (momentum each particle gives) and
-  // returns the nodes whose fluid gains momentum.
+  // returns the nodes whose fluid gains momentum, in the order their first particle comes. The
+  // nodes are independent (each has its own particles), so with a pool they are cut into `parts`
+  // ranges run on it, with the same result bit for bit; fluid_at must then be safe to call from
+  // several threads at once (a const read).
   template <class FluidMoments>
   const std::vector<NodeExchange>& compute(const std::vector<Node>& node, const std::vector<long>& cell,
                                            const std::vector<double>& mass,
                                            const std::vector<fluid::Vec3>& momentum,
                                            const FluidMoments& fluid_at,
-                                           std::vector<fluid::Vec3>& particle_dp);
+                                           std::vector<fluid::Vec3>& particle_dp,
+                                           parallel::ThreadPool* pool = nullptr, int parts = 1);
 
   ExchangeRule rule() const { return rule_; }
   std::size_t bytes_allocated() const {
@@ -52,7 +57,7 @@ template <class FluidMoments>
 const std::vector<NodeExchange>& MomentumExchange::compute(
     const std::vector<Node>& node, const std::vector<long>& cell, const std::vector<double>& mass,
     const std::vector<fluid::Vec3>& momentum, const FluidMoments& fluid_at,
-    std::vector<fluid::Vec3>& particle_dp) {
+    std::vector<fluid::Vec3>& particle_dp, parallel::ThreadPool* pool, int parts) {
   const int n = static_cast<int>(node.size());
   next_.resize(n);
   particle_dp.resize(n);
@@ -63,7 +68,9 @@ const std::vector<NodeExchange>& MomentumExchange::compute(
     next_[p] = head_[cell[p]];
     head_[cell[p]] = p;
   }
-  for (const long first : touched_) {
+  nodes_.resize(touched_.size());
+  auto exchange_at = [&](long i) {
+    const long first = touched_[i];
     const long c = cell[first];
     const auto m = fluid_at(node[first]);
     fluid::Vec3 gained{0, 0, 0};
@@ -89,7 +96,15 @@ const std::vector<NodeExchange>& MomentumExchange::compute(
       }
     }
     head_[c] = -1;
-    nodes_.push_back({node[first], gained});
+    nodes_[i] = {node[first], gained};
+  };
+  const long count = static_cast<long>(touched_.size());
+  if (pool) {
+    pool->parallel_for(count, parts, [&](long begin, long end) {
+      for (long i = begin; i < end; ++i) exchange_at(i);
+    });
+  } else {
+    for (long i = 0; i < count; ++i) exchange_at(i);
   }
   return nodes_;
 }

@@ -62,12 +62,19 @@ class SimulationImpl final : public Simulation {
       });
       exchanged = &exchange_->compute(
           node_, cell_, solid_->masses(), solid_->momenta(),
-          [&](const coupling::Node& at) { return fluid_->moments(at[0], at[1], at[2]); }, dp_);
+          [&](const coupling::Node& at) { return fluid_->moments(at[0], at[1], at[2]); }, dp_, pool_.get(), parts);
     }
     if (fluid_) {
       fluid_->step();
+      // Each node's populations sit in slots no other node writes (the in-place rules are
+      // involutions, FluidLattice::check_in_place_slots), so the nodes take their momentum in parts.
       if (exchanged)
-        for (const auto& e : *exchanged) fluid_->add_momentum(e.node[0], e.node[1], e.node[2], e.momentum);
+        pool_->parallel_for(static_cast<long>(exchanged->size()), parts, [&](long first, long end) {
+          for (long k = first; k < end; ++k) {
+            const auto& e = (*exchanged)[k];
+            fluid_->add_momentum(e.node[0], e.node[1], e.node[2], e.momentum);
+          }
+        });
     }
     if (solid_) {
       pool_->parallel_for(solid_->particle_count(), parts, [&](long first, long end) {
