@@ -136,13 +136,21 @@ class ShearWaveTest : public ::testing::Test {};
 using Lattices = ::testing::Types<D2Q9, D2Q7, D3Q19>;
 TYPED_TEST_SUITE(ShearWaveTest, Lattices);
 
-TYPED_TEST(ShearWaveTest, ViscosityFromDecayRateMatchesBgk) {
-  using L = TypeParam;
+// The periodic box both decay-rate tests run: a wavelength of 64 along x, u along y.
+template <class L>
+FluidConfig wave_box() {
   FluidConfig c;
   c.nx = 64;
   c.ny = 2;  // even, so D2Q7 can be periodic in y
   c.nz = L::D == 3 ? 2 : 1;
-  const Wave wave{{2 * kPi / c.nx, 0, 0}, {0, 1, 0}};
+  return c;
+}
+const Wave kWaveAlongX{{2 * kPi / 64, 0, 0}, {0, 1, 0}};
+
+TYPED_TEST(ShearWaveTest, ViscosityFromDecayRateMatchesBgk) {
+  using L = TypeParam;
+  FluidConfig c = wave_box<L>();
+  const Wave& wave = kWaveAlongX;
   for (double omega : {0.6, 1.0, 1.6}) {
     c.omega = omega;
     const double ratio = fitted_viscosity<L>(c, wave) / bgk_viscosity<L>(omega);
@@ -155,16 +163,13 @@ TYPED_TEST(ShearWaveTest, ViscosityFromDecayRateMatchesBgk) {
 // The same runs against the linearised lattice's own decay rate (linear_theory_viscosity): what is
 // left is the nonlinear part of the run. On D2Q9 and D3Q19 the equilibrium's quadratic terms of a
 // shear wave (u perpendicular to k) do not act back on it: the fit's round-off remains, measured
-// at most 6.8e-13 (gcc -O2, -O3 -march=native, clang with sanitizers), bound 5e-12. On D2Q7 they do: the difference scales as the amplitude squared
-// (3.9e-7, 3.9e-9, 3.9e-11 at A = 1e-2, 1e-3, 1e-4, omega 0.6), so the bound is 1e-2 A^2 = 1e-8
+// at most 6.8e-13 (gcc -O2, -O3 -march=native, clang with sanitizers), bound 5e-12. On D2Q7
+// they do: the difference scales as the amplitude squared (3.9e-7, 3.9e-9, 3.9e-11 at A = 1e-2, 1e-3, 1e-4, omega 0.6), so the bound is 1e-2 A^2 = 1e-8
 // (measured at most 3.9e-9). A viscosity off by 1e-6 of itself in the fluid code would fail both.
 TYPED_TEST(ShearWaveTest, DecayRateMatchesTheLinearisedLattice) {
   using L = TypeParam;
-  FluidConfig c;
-  c.nx = 64;
-  c.ny = 2;
-  c.nz = L::D == 3 ? 2 : 1;
-  const Wave wave{{2 * kPi / c.nx, 0, 0}, {0, 1, 0}};
+  FluidConfig c = wave_box<L>();
+  const Wave& wave = kWaveAlongX;
   for (double omega : {0.6, 1.0, 1.6}) {
     c.omega = omega;
     const double theory = linear_theory_viscosity<L>(omega, wave);
