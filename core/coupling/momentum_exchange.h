@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "coupling/node_locator.h"
+#include "fluid/node_exchange_types.h"
 #include "parallel/thread_pool.h"
 
 namespace lbsolid::coupling {
@@ -15,98 +16,84 @@ namespace lbsolid::coupling {
 enum class ExchangeRule { kCommonVelocity, kPairwise };
 const char* exchange_rule_name(ExchangeRule rule);
 
-// One node's share of an exchange: the fluid gains `momentum`.
-struct NodeExchange {
-  Node node;
-  fluid::Vec3 momentum;
+// The nodes an exchange touched and the momentum each node's fluid gains, index for index: the
+// list the fluid takes back in one batched call (FluidLattice::add_momenta).
+struct ExchangedNodes {
+  std::vector<Node> nodes;
+  std::vector<fluid::Vec3> gained;
+  long size() const { return static_cast<long>(nodes.size()); }
 };
 
 class MomentumExchange {
  public:
-  MomentumExchange(long cells, ExchangeRule rule) : rule_(rule), head_(cells, -1) {}
+  // `row_length` fluid cells make a row (nx): the nodes are visited row after row.
+  MomentumExchange(long cells, ExchangeRule rule, long row_length = 1)
+      : rule_(rule), row_length_(row_length), head_(cells, -1) {}
 
-  // `node[p]`, `cell[p]`, `mass[p]`, `momentum[p]` describe particle p; `fluid_at(node)` returns
-  // the pre-collision fluid Moments there. Fills `particle_dp` (momentum each particle gives) and
-  // returns the nodes whose fluid gains momentum, in the order their first particle comes. The
-  // nodes are independent (each has its own particles), so with a pool they are cut into `parts`
-  // ranges run on it, with the same result bit for bit; fluid_at must then be safe to call from
-  // several threads at once (a const read).
-  template <class FluidMoments>
-  const std::vector<NodeExchange>& compute(const std::vector<Node>& node, const std::vector<long>& cell,
-                                           const std::vector<double>& mass,
-                                           const std::vector<fluid::Vec3>& momentum,
-                                           const FluidMoments& fluid_at,
-                                           std::vector<fluid::Vec3>& particle_dp,
-                                           parallel::ThreadPool* pool = nullptr, int parts = 1);
+  // `node[p]`, `cell[p]`, `mass[p]`, `momentum[p]` describe particle p; `fluid` answers
+  // gather_momenta(nodes, count, out) with the pre-collision density and momentum of each node
+  // (FluidLattice's batched call). Fills `particle_dp` (momentum each particle gives) and returns
+  // the nodes whose fluid gains momentum, row by row (within a row in the order their first
+  // particle comes), so that the fluid is read, and later written, a row at a time rather than
+  // in the particles' order, which jumps between rows. The nodes are independent (each has its
+  // own particles), so with a pool they are cut into `parts` ranges run on it, each reading its
+  // nodes' fluid in one batch, with the same result bit for bit; `fluid` must then allow several
+  // threads to gather at once (a const read).
+  template <class Fluid>
+  const ExchangedNodes& compute(const std::vector<Node>& node, const std::vector<long>& cell,
+                                const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
+                                const Fluid& fluid, std::vector<fluid::Vec3>& particle_dp,
+                                parallel::ThreadPool* pool = nullptr, int parts = 1);
 
   ExchangeRule rule() const { return rule_; }
   std::size_t bytes_allocated() const {
     return head_.capacity() * sizeof(int) + next_.capacity() * sizeof(int) +
-           nodes_.capacity() * (sizeof(NodeExchange) + sizeof(long));
+           touched_.capacity() * (2 * sizeof(long) + sizeof(int)) + row_start_.capacity() * sizeof(long) +
+           result_.nodes.capacity() * sizeof(Node) + result_.gained.capacity() * sizeof(fluid::Vec3) +
+           fluid_.capacity() * sizeof(fluid::DensityMomentum);
   }
 
  private:
+  // Groups the particles by node (head_, next_) and lists the nodes row by row (first_, result_.nodes).
+  void group_by_node(const std::vector<Node>& node, const std::vector<long>& cell);
+  // The exchange at the i-th node listed, its fluid being `f`.
+  void exchange_at(long i, const fluid::DensityMomentum& f, const std::vector<long>& cell,
+                   const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
+                   std::vector<fluid::Vec3>& particle_dp);
+
   ExchangeRule rule_;
-  std::vector<int> head_;  // per fluid cell: first particle attached there, -1 if none
-  std::vector<int> next_;  // per particle: next particle at the same cell
-  std::vector<long> touched_;
-  std::vector<NodeExchange> nodes_;
+  long row_length_;
+  std::vector<int> head_;        // per fluid cell: first particle attached there, -1 if none
+  std::vector<int> next_;        // per particle: next particle at the same cell
+  std::vector<long> touched_;    // per node: its first particle, in particle order
+  std::vector<long> row_of_;     // per node (as in touched_): its fluid row
+  std::vector<long> row_start_;  // counting sort by row
+  std::vector<long> first_;      // per node listed: its first particle
+  std::vector<fluid::DensityMomentum> fluid_;  // per node listed: its fluid before the exchange
+  ExchangedNodes result_;
 };
 
-template <class FluidMoments>
-const std::vector<NodeExchange>& MomentumExchange::compute(
-    const std::vector<Node>& node, const std::vector<long>& cell, const std::vector<double>& mass,
-    const std::vector<fluid::Vec3>& momentum, const FluidMoments& fluid_at,
-    std::vector<fluid::Vec3>& particle_dp, parallel::ThreadPool* pool, int parts) {
-  const int n = static_cast<int>(node.size());
-  next_.resize(n);
-  particle_dp.resize(n);
-  touched_.clear();
-  nodes_.clear();
-  for (int p = 0; p < n; ++p) {  // particles grouped by node in O(n)
-    if (head_[cell[p]] < 0) touched_.push_back(p);
-    next_[p] = head_[cell[p]];
-    head_[cell[p]] = p;
-  }
-  nodes_.resize(touched_.size());
-  auto exchange_at = [&](long i) {
-    const long first = touched_[i];
-    const long c = cell[first];
-    const auto m = fluid_at(node[first]);
-    fluid::Vec3 gained{0, 0, 0};
-    if (rule_ == ExchangeRule::kCommonVelocity) {
-      double total_mass = m.rho;
-      fluid::Vec3 total_momentum{m.rho * m.u[0], m.rho * m.u[1], m.rho * m.u[2]};
-      for (int p = head_[c]; p >= 0; p = next_[p]) {
-        total_mass += mass[p];
-        for (int a = 0; a < 3; ++a) total_momentum[a] += momentum[p][a];
-      }
-      for (int p = head_[c]; p >= 0; p = next_[p])
-        for (int a = 0; a < 3; ++a) {
-          particle_dp[p][a] = momentum[p][a] - mass[p] * total_momentum[a] / total_mass;
-          gained[a] += particle_dp[p][a];
-        }
-    } else {
-      for (int p = head_[c]; p >= 0; p = next_[p]) {
-        const double z = 1.0 / (1.0 / m.rho + 1.0 / mass[p]);
-        for (int a = 0; a < 3; ++a) {
-          particle_dp[p][a] = z * (momentum[p][a] / mass[p] - m.u[a]);
-          gained[a] += particle_dp[p][a];
-        }
-      }
-    }
-    head_[c] = -1;
-    nodes_[i] = {node[first], gained};
+template <class Fluid>
+const ExchangedNodes& MomentumExchange::compute(const std::vector<Node>& node, const std::vector<long>& cell,
+                                                const std::vector<double>& mass,
+                                                const std::vector<fluid::Vec3>& momentum, const Fluid& fluid,
+                                                std::vector<fluid::Vec3>& particle_dp, parallel::ThreadPool* pool,
+                                                int parts) {
+  particle_dp.resize(node.size());
+  group_by_node(node, cell);
+  const long count = result_.size();
+  fluid_.resize(count);
+  result_.gained.resize(count);
+  auto range = [&](long begin, long end) {
+    fluid.gather_momenta(result_.nodes.data() + begin, end - begin, fluid_.data() + begin);
+    for (long i = begin; i < end; ++i) exchange_at(i, fluid_[i], cell, mass, momentum, particle_dp);
   };
-  const long count = static_cast<long>(touched_.size());
   if (pool) {
-    pool->parallel_for(count, parts, [&](long begin, long end) {
-      for (long i = begin; i < end; ++i) exchange_at(i);
-    });
+    pool->parallel_for(count, parts, range);
   } else {
-    for (long i = 0; i < count; ++i) exchange_at(i);
+    range(0, count);
   }
-  return nodes_;
+  return result_;
 }
 
 }  // namespace lbsolid::coupling

@@ -63,8 +63,9 @@ class NodeLocator {
   static long nearest_integer(double v) { return static_cast<long>(std::floor(v + 0.5)); }
   int fit(int axis, long i) const {
     const long n = n_[axis];
+    if (i >= 0 && i < n) return static_cast<int>(i);  // inside the box: no division
     if (periodic_[axis]) return static_cast<int>(((i % n) + n) % n);
-    return static_cast<int>(i < 0 ? 0 : (i >= n ? n - 1 : i));
+    return static_cast<int>(i < 0 ? 0 : n - 1);
   }
   std::array<int, 3> n_;
   std::array<bool, 3> periodic_;

@@ -247,28 +247,50 @@ typename FluidLattice<L, T>::Slot FluidLattice<L, T>::slot(int i, int x, int y, 
 }
 
 template <class L, class T>
-void FluidLattice<L, T>::add_momentum(int x, int y, int z, const Vec3& dp) {
-  if (!stepped_) throw std::logic_error("add_momentum: no step has produced post-collision populations yet");
-  T* f = storage_.buffer(in_place() ? 0 : current_);
-  const long c = cell(x, y, z);
+std::array<long, L::Q> FluidLattice<L, T>::injection_slots(const RowPlan<T, L::Q>& plan, int part) const {
   const long stride = storage_.stride();
   constexpr auto opp = lattice::opposite_table<L>();
-  const auto& sources = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)];
+  std::array<long, Q> offset;
   for (int i = 0; i < Q; ++i) {
-    // Where the last step stored post-collision population i of this node: the buffer just
+    // Where the last step stored post-collision population i of the node: the buffer just
     // written holds it at i (two buffers); an even in-place step wrote it reversed, locally; an
     // odd one wrote it into the slot it had read population opp(i) from.
-    long index;
     if (!in_place()) {
-      index = i * stride + c;
+      offset[i] = i * stride;
     } else if (pulled_) {
-      index = opp[i] * stride + c;
+      offset[i] = opp[i] * stride;
     } else {
-      const auto& s = sources[opp[i]];
-      index = opp[s.dir] * stride + c + s.delta;
+      const auto& s = plan.sources[part][opp[i]];
+      offset[i] = opp[s.dir] * stride + s.delta;
     }
-    const double c_dot_dp = L::c[i][0] * dp[0] + L::c[i][1] * dp[1] + L::c[i][2] * dp[2];
-    f[index] += static_cast<T>(L::w[i] * c_dot_dp / L::cs2);
+  }
+  return offset;
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::add_momentum(int x, int y, int z, const Vec3& dp) {
+  const NodeIndex node{x, y, z};
+  add_momenta(&node, &dp, 1);
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const Vec3* dp, long count) {
+  if (!stepped_) throw std::logic_error("add_momentum: no step has produced post-collision populations yet");
+  T* f = storage_.buffer(in_place() ? 0 : current_);
+  long row_part = -1;  // of the slots below
+  std::array<long, Q> offset{};
+  for (long k = 0; k < count; ++k) {
+    const auto& [x, y, z] = nodes[k];
+    const int part = RowPlans<L, T>::part_of(x, config_.nx);
+    if (const long here = 3 * (y + static_cast<long>(config_.ny) * z) + part; here != row_part) {
+      offset = injection_slots(plans_.for_row(y, z), part);
+      row_part = here;
+    }
+    T* at = f + cell(x, y, z);
+    for (int i = 0; i < Q; ++i) {
+      const double c_dot_dp = L::c[i][0] * dp[k][0] + L::c[i][1] * dp[k][1] + L::c[i][2] * dp[k][2];
+      at[offset[i]] += static_cast<T>(L::w[i] * c_dot_dp / L::cs2);
+    }
   }
 }
 
@@ -279,35 +301,71 @@ std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
 }
 
 template <class L, class T>
-std::array<T, L::Q> FluidLattice<L, T>::gather_in_row(const RowPlan<T, L::Q>& plan, int x, long c) const {
+typename FluidLattice<L, T>::RowSlots FluidLattice<L, T>::read_slots(const RowPlan<T, L::Q>& plan, int part) const {
   // slot() for every direction.
-  const T* f = storage_.buffer(in_place() ? 0 : current_);
   const long stride = storage_.stride();
-  std::array<T, Q> g;
+  RowSlots slots{};
   if (in_place() && !pulled_) {
-    for (int i = 0; i < Q; ++i) g[i] = f[i * stride + c];
-    return g;
+    for (int i = 0; i < Q; ++i) slots.offset[i] = i * stride;
+    return slots;
   }
   constexpr auto opp = lattice::opposite_table<L>();
-  const auto& sources = plan.sources[RowPlans<L, T>::part_of(x, config_.nx)];
   for (int i = 0; i < Q; ++i) {
-    const auto& s = sources[i];
+    const auto& s = plan.sources[part][i];
     const int stored_as = in_place() ? opp[s.dir] : s.dir;
-    g[i] = f[stored_as * stride + c + s.delta] + s.correction;
+    slots.offset[i] = stored_as * stride + s.delta;
+    slots.correction[i] = s.correction;
   }
+  return slots;
+}
+
+template <class L, class T>
+std::array<T, L::Q> FluidLattice<L, T>::gather_in_row(const RowPlan<T, L::Q>& plan, int x, long c) const {
+  const T* f = storage_.buffer(in_place() ? 0 : current_) + c;
+  const RowSlots slots = read_slots(plan, RowPlans<L, T>::part_of(x, config_.nx));
+  std::array<T, Q> g;
+  for (int i = 0; i < Q; ++i) g[i] = f[slots.offset[i]] + slots.correction[i];
   return g;
 }
 
 template <class L, class T>
-inline Moments FluidLattice<L, T>::moments_of(const std::array<T, L::Q>& g, const RowPlan<T, L::Q>& plan) const {
+void FluidLattice<L, T>::gather_momenta(const NodeIndex* nodes, long count, DensityMomentum* out) const {
+  const T* f = storage_.buffer(in_place() ? 0 : current_);
+  long row_part = -1;  // of the plan and slots below
+  const RowPlan<T, Q>* plan = nullptr;
+  RowSlots slots{};
+  for (long k = 0; k < count; ++k) {
+    const auto& [x, y, z] = nodes[k];
+    const int part = RowPlans<L, T>::part_of(x, config_.nx);
+    if (const long here = 3 * (y + static_cast<long>(config_.ny) * z) + part; here != row_part) {
+      plan = &plans_.for_row(y, z);
+      slots = read_slots(*plan, part);
+      row_part = here;
+    }
+    const T* at = f + cell(x, y, z);
+    std::array<T, Q> g;
+    for (int i = 0; i < Q; ++i) g[i] = at[slots.offset[i]] + slots.correction[i];
+    out[k] = density_momentum_of(g, *plan);
+  }
+}
+
+template <class L, class T>
+inline DensityMomentum FluidLattice<L, T>::density_momentum_of(const std::array<T, L::Q>& g,
+                                                              const RowPlan<T, L::Q>& plan) const {
   double drho = 0, j[3] = {0, 0, 0};
   for (int i = 0; i < Q; ++i) {
     drho += g[i];
     for (int a = 0; a < 3; ++a) j[a] += L::c[i][a] * static_cast<double>(g[i]);
   }
-  Moments m{config_.rho0 + drho, {0, 0, 0}};
-  for (int a = 0; a < 3; ++a) m.u[a] = (j[a] + (has_force_ ? 0.5 * plan.force[a] : 0.0)) / m.rho;
+  DensityMomentum m{config_.rho0 + drho, {0, 0, 0}};
+  for (int a = 0; a < 3; ++a) m.momentum[a] = j[a] + (has_force_ ? 0.5 * plan.force[a] : 0.0);
   return m;
+}
+
+template <class L, class T>
+inline Moments FluidLattice<L, T>::moments_of(const std::array<T, L::Q>& g, const RowPlan<T, L::Q>& plan) const {
+  const DensityMomentum m = density_momentum_of(g, plan);
+  return {m.rho, {m.momentum[0] / m.rho, m.momentum[1] / m.rho, m.momentum[2] / m.rho}};
 }
 
 template <class L, class T>

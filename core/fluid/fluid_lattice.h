@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "fluid/fluid_config.h"
+#include "fluid/node_exchange_types.h"
 #include "fluid/population_storage.h"
 #include "fluid/row_plan.h"
 #include "parallel/thread_pool.h"
@@ -70,6 +71,13 @@ class FluidLattice {
   // (x, y, z) produced in the step just taken, before they arrive downstream. The node's momentum
   // grows by exactly dp and its mass is unchanged. Call between step() and the next step().
   void add_momentum(int x, int y, int z, const Vec3& dp);
+  // The coupling's two calls, batched: a fluid held elsewhere (a GPU, other processes) can answer
+  // them for a whole list of nodes at once. Here the list is walked in order, the slots of a row's
+  // nodes worked out once per row; nodes given row by row (x rising) read and write memory in
+  // order. `out[k]` gets what moments(nodes[k]) describes; add_momenta is add_momentum for each
+  // node with dp[k] (the nodes distinct).
+  void gather_momenta(const NodeIndex* nodes, long count, DensityMomentum* out) const;
+  void add_momenta(const NodeIndex* nodes, const Vec3* dp, long count);
   // The number of parts each step is cut into; a lattice with its own pool resizes it.
   void set_threads(int threads);
 
@@ -100,8 +108,18 @@ class FluidLattice {
     T correction;
   };
   Slot slot(int i, int x, int y, int z) const;
+  // Where population i of every node of one part of a row (RowPlans::part_of) is, as an offset
+  // from the node's cell: at time t, to read (with a correction to add), and as the last step
+  // wrote it after collision, to inject into.
+  struct RowSlots {
+    std::array<long, L::Q> offset;
+    std::array<T, L::Q> correction;
+  };
+  RowSlots read_slots(const RowPlan<T, L::Q>& plan, int part) const;
+  std::array<long, L::Q> injection_slots(const RowPlan<T, L::Q>& plan, int part) const;
   std::array<T, L::Q> gather(int x, int y, int z) const;  // shifted populations at time t
   std::array<T, L::Q> gather_in_row(const RowPlan<T, L::Q>& plan, int x, long cell) const;
+  DensityMomentum density_momentum_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
   Moments moments_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
   void check_in_place_slots() const;
   // One step's fused kernels with the given collision policy (bgk_collision.h and siblings).

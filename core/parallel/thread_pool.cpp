@@ -27,7 +27,10 @@ void ThreadPool::stop_and_join() {
 
 int ThreadPool::take_part_locked(Job& job) {
   const int part = job.next_part++;
-  if (job.next_part == job.parts) queue_.erase(std::find(queue_.begin(), queue_.end(), &job));
+  if (job.next_part == job.parts) {
+    queue_.erase(std::find(queue_.begin(), queue_.end(), &job));
+    queued_.store(static_cast<int>(queue_.size()), std::memory_order_relaxed);
+  }
   return part;
 }
 
@@ -50,6 +53,7 @@ void ThreadPool::parallel_for(long n, int parts, const std::function<void(long, 
   {
     std::lock_guard lock(mutex_);
     queue_.push_back(&job);
+    queued_.store(static_cast<int>(queue_.size()), std::memory_order_relaxed);
   }
   for (int i = 1; i < parts; ++i) work_.notify_one();  // the caller takes a part itself
   // The caller works on its own job: it finishes even when every pool thread is busy elsewhere.
@@ -66,10 +70,17 @@ void ThreadPool::parallel_for(long n, int parts, const std::function<void(long, 
   done_.wait(lock, [&] { return job.unfinished == 0; });
 }
 
+void ThreadPool::stay_awake_for_work() const {
+  const auto until = std::chrono::steady_clock::now() + kStayAwake;
+  while (queued_.load(std::memory_order_relaxed) == 0 && std::chrono::steady_clock::now() < until)
+    std::this_thread::yield();
+}
+
 void ThreadPool::worker_loop() {
   for (;;) {
     Job* job;
     int part;
+    stay_awake_for_work();  // the queue itself is read under the mutex below
     {
       std::unique_lock lock(mutex_);
       work_.wait(lock, [&] { return stopping_ || !queue_.empty(); });

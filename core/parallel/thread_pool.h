@@ -6,6 +6,12 @@
 // runs every job on its caller with no synchronisation.
 //
 // Results do not depend on which thread ran a part: the parts are fixed by (n, parts) alone.
+//
+// A pool thread that finds no work stays awake for kStayAwake (yielding) before it sleeps: the
+// jobs of one simulation step come microseconds apart, and a thread woken from sleep for each
+// came too late for a short job, whose caller had meanwhile run every part itself.
+#include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -23,6 +29,8 @@ class ThreadPool {
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;
   ThreadPool& operator=(const ThreadPool&) = delete;
+
+  static constexpr std::chrono::microseconds kStayAwake{200};
 
   int size() const { return static_cast<int>(workers_.size()) + 1; }
 
@@ -44,6 +52,8 @@ class ThreadPool {
   int take_part_locked(Job& job);
   void run_part(Job& job, int part);  // runs it, then counts it done (takes the mutex)
   void worker_loop();
+  // Returns once a job is queued or kStayAwake has passed.
+  void stay_awake_for_work() const;
   void stop_and_join();
 
   std::vector<std::thread> workers_;
@@ -51,6 +61,7 @@ class ThreadPool {
   std::condition_variable work_;  // a job was queued, or the pool stops
   std::condition_variable done_;  // a job's last part finished
   std::deque<Job*> queue_;        // jobs with parts nobody has taken, oldest first
+  std::atomic<int> queued_{0};    // queue_.size(), read without the mutex by threads staying awake
   bool stopping_ = false;
 };
 

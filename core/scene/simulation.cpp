@@ -36,7 +36,7 @@ class SimulationImpl final : public Simulation {
     const int n = solid_->particle_count();
     force_.resize(n);
     if (fluid_) {
-      exchange_ = std::make_unique<coupling::MomentumExchange>(fluid_->cells(), scene.exchange);
+      exchange_ = std::make_unique<coupling::MomentumExchange>(fluid_->cells(), scene.exchange, scene.fluid.nx);
       node_.resize(n);
       cell_.resize(n);
       dp_.resize(n);
@@ -51,8 +51,9 @@ class SimulationImpl final : public Simulation {
   }
 
   void step() override {
-    const std::vector<coupling::NodeExchange>* exchanged = nullptr;
+    const coupling::ExchangedNodes* exchanged = nullptr;
     const int parts = scene_.fluid.threads;
+    clock_.start();
     if (exchange_) {
       pool_->parallel_for(solid_->particle_count(), parts, [&](long first, long end) {
         for (long p = first; p < end; ++p) {
@@ -60,43 +61,50 @@ class SimulationImpl final : public Simulation {
           cell_[p] = locator_.cell(node_[p]);
         }
       });
-      exchanged = &exchange_->compute(
-          node_, cell_, solid_->masses(), solid_->momenta(),
-          [&](const coupling::Node& at) { return fluid_->moments(at[0], at[1], at[2]); }, dp_, pool_.get(), parts);
+      clock_.lap(Stage::kLocate);
+      exchanged = &exchange_->compute(node_, cell_, solid_->masses(), solid_->momenta(), *fluid_, dp_, pool_.get(),
+                                      parts);
+      clock_.lap(Stage::kExchange);
     }
     if (fluid_) {
       fluid_->step();
+      clock_.lap(Stage::kFluid);
       // Each node's populations sit in slots no other node writes (the in-place rules are
       // involutions, FluidLattice::check_in_place_slots), so the nodes take their momentum in parts.
-      if (exchanged)
-        pool_->parallel_for(static_cast<long>(exchanged->size()), parts, [&](long first, long end) {
-          for (long k = first; k < end; ++k) {
-            const auto& e = (*exchanged)[k];
-            fluid_->add_momentum(e.node[0], e.node[1], e.node[2], e.momentum);
-          }
+      if (exchanged) {
+        pool_->parallel_for(exchanged->size(), parts, [&](long first, long end) {
+          fluid_->add_momenta(exchanged->nodes.data() + first, exchanged->gained.data() + first, end - first);
         });
+        clock_.lap(Stage::kInject);
+      }
     }
     if (solid_) {
+      // Loads, the exchange's reaction, then wall contact (which needs every other force).
       pool_->parallel_for(solid_->particle_count(), parts, [&](long first, long end) {
         for (long p = first; p < end; ++p) {
           force_[p] = loads_ ? solid_->body(solid_->body_of(static_cast<int>(p))).load : Vec3{0, 0, 0};
           if (exchange_)
             for (int a = 0; a < 3; ++a) force_[p][a] -= dp_[p][a];
         }
+        if (walls_.any()) solid::add_wall_contact(walls_, *solid_, force_, static_cast<int>(first), static_cast<int>(end));
       });
-      if (walls_.any()) solid::add_wall_contact(walls_, *solid_, force_);
+      clock_.lap(Stage::kForces);
       solid_->step(force_, pool_.get(), parts);
+      clock_.lap(Stage::kSolid);
     }
     ++steps_;
     // After the step is complete, so a throw leaves a consistent state at step N to read or save.
     const int every = scene_.monitor.interval;
     if (every > 0 && steps_ % every == 0) {
       const std::string problem = observe::find_instability(*this, scene_.monitor.limits);
+      clock_.lap(Stage::kMonitor);
       if (!problem.empty()) throw InstabilityError(steps_, problem);
     }
   }
 
   long step_count() const override { return steps_; }
+  void time_stages(bool on) override { clock_.enable(on); }
+  StageClock::Seconds stage_seconds() const override { return clock_.seconds(); }
   const Scene& scene() const override { return scene_; }
   bool has_fluid() const override { return fluid_ != nullptr; }
   const solid::SolidSystem* solid() const override { return solid_.get(); }
@@ -228,6 +236,7 @@ class SimulationImpl final : public Simulation {
   std::vector<coupling::Node> node_;
   std::vector<long> cell_;
   std::vector<Vec3> dp_, force_;
+  StageClock clock_;
 };
 
 template <class L>

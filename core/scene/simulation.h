@@ -15,6 +15,7 @@
 #include "fluid/fluid_lattice.h"
 #include "scene/instability_error.h"
 #include "scene/scene.h"
+#include "scene/stage_clock.h"
 #include "solid/solid_system.h"
 
 namespace lbsolid::scene {
@@ -67,6 +68,10 @@ class Simulation {
     for (long s = 0; s < steps; ++s) step();
   }
   virtual long step_count() const = 0;
+  // Benchmarks: with timing on, each step adds the wall time of its stages (stage_clock.h); turning
+  // it on or off clears the sums. Results do not depend on it.
+  virtual void time_stages(bool on) = 0;
+  virtual StageClock::Seconds stage_seconds() const = 0;
   virtual const Scene& scene() const = 0;
   // The stages run each step, in order: a subset of exchange, fluid, loads, contact, solid.
   virtual std::vector<std::string> stages() const = 0;

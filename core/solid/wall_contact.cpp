@@ -2,8 +2,10 @@
 
 namespace lbsolid::solid {
 
-void add_wall_contact(const ContactWalls& walls, const SolidSystem& solid, std::vector<Vec3>& force) {
-  for (int p = 0; p < solid.particle_count(); ++p) {
+void add_wall_contact(const ContactWalls& walls, const SolidSystem& solid, std::vector<Vec3>& force, int first,
+                      int end) {
+  if (end < 0) end = solid.particle_count();
+  for (int p = first; p < end; ++p) {
     const Vec3& psi = solid.momentum(p);
     const Vec3& r = solid.position(p);
     const double m = solid.mass(p);

@@ -23,7 +23,10 @@ struct ContactWalls {
   }
 };
 
-// Adds the contact force to `force` (which holds every other force) for particles about to cross.
-void add_wall_contact(const ContactWalls& walls, const SolidSystem& solid, std::vector<Vec3>& force);
+// Adds the contact force to `force` (which holds every other force) for particles about to cross,
+// among particles [first, end) (all by default). Each particle reads and writes only its own
+// entries, so ranges may run at once.
+void add_wall_contact(const ContactWalls& walls, const SolidSystem& solid, std::vector<Vec3>& force, int first = 0,
+                      int end = -1);
 
 }  // namespace lbsolid::solid

@@ -32,6 +32,26 @@ double seconds_per_step(Stepper&& step, double min_seconds) {
   return best;
 }
 
+// Seconds per step in each stage, over steps taken with the stage clock on (apart from the steps
+// timed as a whole, so that those carry no clock reads); the least of a few rounds per stage.
+scene::StageClock::Seconds stage_seconds_per_step(scene::Simulation& sim, double min_seconds) {
+  scene::StageClock::Seconds best;
+  best.fill(INFINITY);
+  for (int round = 0; round < 3; ++round) {
+    sim.time_stages(true);
+    long steps = 0;
+    const auto start = std::chrono::steady_clock::now();
+    while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < min_seconds / 3) {
+      sim.step();
+      ++steps;
+    }
+    for (int k = 0; k < scene::kStageCount; ++k)
+      best[k] = std::min(best[k], sim.stage_seconds()[k] / static_cast<double>(steps));
+  }
+  sim.time_stages(false);
+  return best;
+}
+
 // A D2Q7 box periodic in x between bounce-back walls, n x n nodes, the paper's omega = 1.
 Scene paper_box(int n, int threads) {
   Scene s;
@@ -112,7 +132,8 @@ std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads) {
     char what[64];
     std::snprintf(what, sizeof what, "coupled, %.1f particles per cell", per_cell);
     rows.push_back({what, "D2Q7", threads, static_cast<long>(n) * n, b->solid()->particle_count(), with_solid, plain,
-                    static_cast<double>(b->fluid_bytes()), static_cast<double>(b->solid_bytes())});
+                    static_cast<double>(b->fluid_bytes()), static_cast<double>(b->solid_bytes()),
+                    stage_seconds_per_step(*b, min_seconds)});
   }
   return rows;
 }
@@ -131,6 +152,21 @@ void print_scene_rows(const std::vector<SceneRow>& rows) {
                 compared ? std::to_string(r.step_seconds / r.reference_seconds).substr(0, 5).c_str() : "-",
                 r.fluid_bytes / 1048576.0, r.solid_bytes / 1048576.0,
                 r.particles ? std::to_string(per_particle).substr(0, 6).c_str() : "-");
+  }
+  // The coupled steps stage by stage, in ns per particle per step (the fluid's too, for scale).
+  std::printf("\n%-36s %7s", "coupled step by stage (ns/particle)", "threads");
+  for (int k = 0; k < scene::kStageCount; ++k) std::printf(" %8s", scene::stage_name(static_cast<scene::Stage>(k)));
+  std::printf(" %9s\n", "coupling");
+  for (const SceneRow& r : rows) {
+    if (r.stage_seconds[static_cast<int>(scene::Stage::kExchange)] == 0) continue;
+    std::printf("%-36s %7d", r.what.c_str(), r.threads);
+    double coupling = 0;  // every stage but the fluid's
+    for (int k = 0; k < scene::kStageCount; ++k) {
+      const double ns = 1e9 * r.stage_seconds[k] / static_cast<double>(r.particles);
+      if (static_cast<scene::Stage>(k) != scene::Stage::kFluid) coupling += ns;
+      std::printf(" %8.2f", ns);
+    }
+    std::printf(" %9.2f\n", coupling);
   }
   // Speed-up of each scene (and of its reference step) with threads, against its one-thread row.
   bool header = false;
@@ -153,9 +189,12 @@ void print_scene_rows_json(const std::vector<SceneRow>& rows) {
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const SceneRow& r = rows[k];
     std::printf("    {\"scene\": \"%s\", \"lattice\": \"%s\", \"threads\": %d, \"cells\": %ld, \"particles\": %ld, \"seconds_per_step\": %.6g, "
-                "\"reference_seconds_per_step\": %.6g, \"fluid_bytes\": %.0f, \"solid_bytes\": %.0f}%s\n",
+                "\"reference_seconds_per_step\": %.6g, \"fluid_bytes\": %.0f, \"solid_bytes\": %.0f, \"stage_seconds_per_step\": {",
                 r.what.c_str(), r.lattice.c_str(), r.threads, r.cells, r.particles, r.step_seconds, r.reference_seconds,
-                r.fluid_bytes, r.solid_bytes, k + 1 < rows.size() ? "," : "");
+                r.fluid_bytes, r.solid_bytes);
+    for (int s = 0; s < scene::kStageCount; ++s)
+      std::printf("%s\"%s\": %.6g", s ? ", " : "", scene::stage_name(static_cast<scene::Stage>(s)), r.stage_seconds[s]);
+    std::printf("}}%s\n", k + 1 < rows.size() ? "," : "");
   }
   std::printf("  ]\n");
 }

@@ -1,8 +1,11 @@
 #pragma once
 // Scene-level benchmarks (issue: "simulate only the effects a scene calls for"): what the builder
 // adds to a fluid-only scene, the memory of a solid-only scene, and the cost of coupled steps.
+#include <array>
 #include <string>
 #include <vector>
+
+#include "scene/stage_clock.h"
 
 namespace lbsolid::bench {
 
@@ -15,10 +18,14 @@ struct SceneRow {
   double step_seconds = 0;      // best seconds per step
   double reference_seconds = 0; // the step it is compared with (0 if none)
   double fluid_bytes = 0, solid_bytes = 0;
+  // Seconds per step in each stage (scene::Stage), measured over separate steps with the stage
+  // clock on; all zero where not measured.
+  scene::StageClock::Seconds stage_seconds{};
 };
 
 std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads);
-// The rows, then for each scene measured with more than one thread its speed-up over one thread.
+// The rows, then the coupled steps stage by stage, then for each scene measured with more than one
+// thread its speed-up over one thread.
 void print_scene_rows(const std::vector<SceneRow>& rows);
 void print_scene_rows_json(const std::vector<SceneRow>& rows);
 

@@ -108,6 +108,15 @@ TEST(NodeLocator, NearestIsANodeForAnyDouble) {
   check_any_double<lattice::D3Q19>(walled_box(6, 5, 4, 3));
 }
 
+// A fluid at one state everywhere, answering the exchange's batched read.
+struct UniformFluid {
+  fluid::Moments state;
+  void gather_momenta(const fluid::NodeIndex*, long count, fluid::DensityMomentum* out) const {
+    for (long k = 0; k < count; ++k)
+      out[k] = {state.rho, {state.rho * state.u[0], state.rho * state.u[1], state.rho * state.u[2]}};
+  }
+};
+
 // One exchange leaves a lone particle and its node at the same velocity, with dP = Z (u_s - u_f),
 // 1/Z = 1/rho + 1/M (eq. 14).
 TEST(MomentumExchange, LoneParticleAndItsNodeReachOneVelocity) {
@@ -116,14 +125,13 @@ TEST(MomentumExchange, LoneParticleAndItsNodeReachOneVelocity) {
   const double mass = 1.5;
   const Vec3 psi{0.09, 0.012, -0.03};
   std::vector<Vec3> dp;
-  const auto& nodes = exchange.compute({{1, 0, 0}}, {1}, {mass}, {psi},
-                                       [&](const Node&) { return fluid_state; }, dp);
-  ASSERT_EQ(nodes.size(), 1u);
+  const auto& nodes = exchange.compute({{1, 0, 0}}, {1}, {mass}, {psi}, UniformFluid{fluid_state}, dp);
+  ASSERT_EQ(nodes.size(), 1);
   const double z = 1.0 / (1.0 / fluid_state.rho + 1.0 / mass);
   double worst = 0;
   for (int a = 0; a < 3; ++a) {
     EXPECT_NEAR(dp[0][a], z * (psi[a] / mass - fluid_state.u[a]), 1e-16);
-    const double u_fluid = (fluid_state.rho * fluid_state.u[a] + nodes[0].momentum[a]) / fluid_state.rho;
+    const double u_fluid = (fluid_state.rho * fluid_state.u[a] + nodes.gained[0][a]) / fluid_state.rho;
     const double u_solid = (psi[a] - dp[0][a]) / mass;
     worst = std::max(worst, std::abs(u_fluid - u_solid));
   }
@@ -141,12 +149,12 @@ TEST(MomentumExchange, SeveralParticlesOnOneNodeShareOneVelocity) {
   const std::vector<long> cells(4, 0);
   std::vector<Vec3> dp;
   MomentumExchange common(1, ExchangeRule::kCommonVelocity);
-  const double gained = common.compute(nodes, cells, mass, psi, [&](const Node&) { return fluid_state; }, dp)[0].momentum[0];
+  const double gained = common.compute(nodes, cells, mass, psi, UniformFluid{fluid_state}, dp).gained[0][0];
   const double u_star = 0.8 / 9.0;
   EXPECT_NEAR(gained / fluid_state.rho, u_star, 1e-16);
   for (int p = 0; p < 4; ++p) EXPECT_NEAR((psi[p][0] - dp[p][0]) / mass[p], u_star, 1e-16);
   MomentumExchange pairwise(1, ExchangeRule::kPairwise);
-  const double overshoot = pairwise.compute(nodes, cells, mass, psi, [&](const Node&) { return fluid_state; }, dp)[0].momentum[0];
+  const double overshoot = pairwise.compute(nodes, cells, mass, psi, UniformFluid{fluid_state}, dp).gained[0][0];
   report("pairwise fluid velocity / particle velocity before exchange", overshoot / 0.1, 1.0);
   EXPECT_GT(overshoot / fluid_state.rho, 0.1);  // the fluid ends faster than the particles were
 }
