@@ -1,5 +1,7 @@
 #include "coupling/momentum_exchange.h"
 
+#include <algorithm>
+
 namespace lbsolid::coupling {
 
 const char* exchange_rule_name(ExchangeRule rule) {
@@ -10,37 +12,60 @@ const char* exchange_rule_name(ExchangeRule rule) {
   return "?";
 }
 
-void MomentumExchange::group_by_node(const std::vector<Node>& node, const std::vector<long>& cell) {
-  const int n = static_cast<int>(node.size());
-  next_.resize(n);
-  touched_.clear();
-  for (int p = 0; p < n; ++p) {  // particles grouped by node in O(n)
-    if (head_[cell[p]] < 0) touched_.push_back(p);
-    next_[p] = head_[cell[p]];
-    head_[cell[p]] = p;
-  }
-  // The nodes row by row: a counting sort on the row, stable.
-  const long count = static_cast<long>(touched_.size());
-  row_of_.resize(count);
-  row_start_.assign(head_.size() / row_length_ + 2, 0);
-  for (long i = 0; i < count; ++i) {
-    row_of_[i] = cell[touched_[i]] / row_length_;
-    ++row_start_[row_of_[i] + 1];
-  }
-  for (std::size_t r = 1; r < row_start_.size(); ++r) row_start_[r] += row_start_[r - 1];
-  first_.resize(count);
-  result_.nodes.resize(count);
-  for (long i = 0; i < count; ++i) {
-    const long at = row_start_[row_of_[i]]++;
-    first_[at] = touched_[i];
-    result_.nodes[at] = node[touched_[i]];
-  }
+MomentumExchange::MomentumExchange(const std::array<int, 3>& grid, ExchangeRule rule)
+    : rule_(rule),
+      ny_(grid[1]),
+      rows_(static_cast<long>(grid[1]) * grid[2]),
+      head_(static_cast<std::size_t>(grid[0]) * grid[1] * grid[2], -1) {}
+
+std::size_t MomentumExchange::bytes_allocated() const {
+  return head_.capacity() * sizeof(int) + (next_.capacity() + by_row_.capacity()) * sizeof(int) +
+         (row_of_.capacity() + row_start_.capacity() + nodes_in_row_.capacity() + slot_cell_.capacity()) * sizeof(long) +
+         slot_node_.capacity() * sizeof(Node) + slot_fluid_.capacity() * sizeof(fluid::DensityMomentum) +
+         slot_gained_.capacity() * sizeof(fluid::Vec3);
 }
 
-void MomentumExchange::exchange_at(long i, const fluid::DensityMomentum& f, const std::vector<long>& cell,
-                                   const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
-                                   std::vector<fluid::Vec3>& particle_dp) {
-  const long c = cell[first_[i]];
+void MomentumExchange::sort_by_row(const std::vector<Node>& node) {
+  const long n = static_cast<long>(node.size());
+  next_.resize(n);
+  row_of_.resize(n);
+  by_row_.resize(n);
+  slot_node_.resize(n);  // a row has at most as many nodes as particles: its slots fit in its share
+  slot_cell_.resize(n);
+  slot_fluid_.resize(n);
+  slot_gained_.resize(n);
+  nodes_in_row_.assign(rows_, 0);
+  row_start_.assign(rows_ + 1, 0);
+  for (long p = 0; p < n; ++p) {
+    row_of_[p] = node[p][1] + static_cast<long>(ny_) * node[p][2];
+    ++row_start_[row_of_[p] + 1];
+  }
+  for (long r = 0; r < rows_; ++r) row_start_[r + 1] += row_start_[r];
+  // Placed with a cursor per row, borrowed from nodes_in_row_ (zero again afterwards).
+  for (long p = 0; p < n; ++p) by_row_[row_start_[row_of_[p]] + nodes_in_row_[row_of_[p]]++] = static_cast<int>(p);
+  std::fill(nodes_in_row_.begin(), nodes_in_row_.end(), 0);
+}
+
+void MomentumExchange::group_row(long r, const std::vector<Node>& node, const std::vector<long>& cell) {
+  const long first = row_start_[r];
+  long count = 0;
+  for (long k = first; k < row_start_[r + 1]; ++k) {
+    const int p = by_row_[k];
+    const long c = cell[p];
+    if (head_[c] < 0) {
+      slot_node_[first + count] = node[p];
+      slot_cell_[first + count] = c;
+      ++count;
+    }
+    next_[p] = head_[c];
+    head_[c] = p;
+  }
+  nodes_in_row_[r] = count;
+}
+
+void MomentumExchange::exchange_at(long slot, const fluid::DensityMomentum& f, const std::vector<double>& mass,
+                                   const std::vector<fluid::Vec3>& momentum, std::vector<fluid::Vec3>& particle_dp) {
+  const long c = slot_cell_[slot];
   fluid::Vec3 gained{0, 0, 0};
   if (rule_ == ExchangeRule::kCommonVelocity) {
     double total_mass = f.rho;
@@ -68,7 +93,17 @@ void MomentumExchange::exchange_at(long i, const fluid::DensityMomentum& f, cons
     }
   }
   head_[c] = -1;  // ready for the next exchange
-  result_.gained[i] = gained;
+  slot_gained_[slot] = gained;
+}
+
+ExchangedNodes MomentumExchange::exchanged() const {
+  ExchangedNodes out;
+  for (long r = 0; r < rows_; ++r)
+    for (long slot = row_start_[r]; slot < row_start_[r] + nodes_in_row_[r]; ++slot) {
+      out.nodes.push_back(slot_node_[slot]);
+      out.gained.push_back(slot_gained_[slot]);
+    }
+  return out;
 }
 
 }  // namespace lbsolid::coupling

@@ -16,8 +16,7 @@ namespace lbsolid::coupling {
 enum class ExchangeRule { kCommonVelocity, kPairwise };
 const char* exchange_rule_name(ExchangeRule rule);
 
-// The nodes an exchange touched and the momentum each node's fluid gains, index for index: the
-// list the fluid takes back in one batched call (FluidLattice::add_momenta).
+// The nodes an exchange touched and the momentum each node's fluid gains, index for index.
 struct ExchangedNodes {
   std::vector<Node> nodes;
   std::vector<fluid::Vec3> gained;
@@ -26,74 +25,96 @@ struct ExchangedNodes {
 
 class MomentumExchange {
  public:
-  // `row_length` fluid cells make a row (nx): the nodes are visited row after row.
-  MomentumExchange(long cells, ExchangeRule rule, long row_length = 1)
-      : rule_(rule), row_length_(row_length), head_(cells, -1) {}
+  // On a grid of nx x ny x nz fluid nodes.
+  MomentumExchange(const std::array<int, 3>& grid, ExchangeRule rule);
 
   // `node[p]`, `cell[p]`, `mass[p]`, `momentum[p]` describe particle p; `fluid` answers
   // gather_momenta(nodes, count, out) with the pre-collision density and momentum of each node
-  // (FluidLattice's batched call). Fills `particle_dp` (momentum each particle gives) and returns
-  // the nodes whose fluid gains momentum, row by row (within a row in the order their first
-  // particle comes), so that the fluid is read, and later written, a row at a time rather than
-  // in the particles' order, which jumps between rows. The nodes are independent (each has its
-  // own particles), so with a pool they are cut into `parts` ranges run on it, each reading its
-  // nodes' fluid in one batch, with the same result bit for bit; `fluid` must then allow several
-  // threads to gather at once (a const read).
+  // (FluidLattice's batched call). Fills `particle_dp` (momentum each particle gives) and keeps
+  // what each node's fluid gains for inject().
+  //
+  // The particles are sorted by fluid row (a counting sort, serial and in order); then the rows
+  // are independent: with a pool they are cut into `parts` ranges run on it, each row grouping its
+  // particles by node (in a per-cell list no other row touches), reading its nodes' fluid in one
+  // batch and exchanging, so that the fluid is read, and later written, a row at a time. Within a
+  // row the nodes come in the order of their first particle, and a node's particles in descending
+  // order: the result is the same bit for bit for any number of parts. `fluid` must then allow
+  // several threads to gather at once (a const read).
   template <class Fluid>
-  const ExchangedNodes& compute(const std::vector<Node>& node, const std::vector<long>& cell,
-                                const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
-                                const Fluid& fluid, std::vector<fluid::Vec3>& particle_dp,
-                                parallel::ThreadPool* pool = nullptr, int parts = 1);
+  void compute(const std::vector<Node>& node, const std::vector<long>& cell, const std::vector<double>& mass,
+               const std::vector<fluid::Vec3>& momentum, const Fluid& fluid, std::vector<fluid::Vec3>& particle_dp,
+               parallel::ThreadPool* pool = nullptr, int parts = 1);
+  // Gives the fluid the momentum of the last compute() (fluid.add_momenta per row), in the same
+  // parts: each node's slots are written by no other node. Call after the fluid's step.
+  template <class Fluid>
+  void inject(Fluid& fluid, parallel::ThreadPool* pool = nullptr, int parts = 1) const;
 
+  // The last compute()'s nodes and what their fluid gains, row by row (tests, diagnostics).
+  ExchangedNodes exchanged() const;
   ExchangeRule rule() const { return rule_; }
-  std::size_t bytes_allocated() const {
-    return head_.capacity() * sizeof(int) + next_.capacity() * sizeof(int) +
-           touched_.capacity() * (2 * sizeof(long) + sizeof(int)) + row_start_.capacity() * sizeof(long) +
-           result_.nodes.capacity() * sizeof(Node) + result_.gained.capacity() * sizeof(fluid::Vec3) +
-           fluid_.capacity() * sizeof(fluid::DensityMomentum);
-  }
+  std::size_t bytes_allocated() const;
 
  private:
-  // Groups the particles by node (head_, next_) and lists the nodes row by row (first_, result_.nodes).
-  void group_by_node(const std::vector<Node>& node, const std::vector<long>& cell);
-  // The exchange at the i-th node listed, its fluid being `f`.
-  void exchange_at(long i, const fluid::DensityMomentum& f, const std::vector<long>& cell,
-                   const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
-                   std::vector<fluid::Vec3>& particle_dp);
+  void sort_by_row(const std::vector<Node>& node);
+  // Groups row r's particles by node, and lists its nodes at slots from row_start_[r] on.
+  void group_row(long r, const std::vector<Node>& node, const std::vector<long>& cell);
+  // The exchange at one listed node, its fluid being `f`.
+  void exchange_at(long slot, const fluid::DensityMomentum& f, const std::vector<double>& mass,
+                   const std::vector<fluid::Vec3>& momentum, std::vector<fluid::Vec3>& particle_dp);
+  template <class Rows>
+  void for_rows(parallel::ThreadPool* pool, int parts, const Rows& rows) const;
 
   ExchangeRule rule_;
-  long row_length_;
+  int ny_;
+  long rows_;
   std::vector<int> head_;        // per fluid cell: first particle attached there, -1 if none
   std::vector<int> next_;        // per particle: next particle at the same cell
-  std::vector<long> touched_;    // per node: its first particle, in particle order
-  std::vector<long> row_of_;     // per node (as in touched_): its fluid row
-  std::vector<long> row_start_;  // counting sort by row
-  std::vector<long> first_;      // per node listed: its first particle
-  std::vector<fluid::DensityMomentum> fluid_;  // per node listed: its fluid before the exchange
-  ExchangedNodes result_;
+  std::vector<long> row_of_;     // per particle: its fluid row, y + ny z
+  std::vector<long> row_start_;  // per row: its first entry in by_row_ (and its first slot)
+  std::vector<int> by_row_;      // the particles, row by row
+  std::vector<long> nodes_in_row_;  // per row: nodes listed
+  // Per slot (row_start_[r] + k for the k-th node of row r): the node, its cell, what it reads
+  // and what it gains.
+  std::vector<Node> slot_node_;
+  std::vector<long> slot_cell_;
+  std::vector<fluid::DensityMomentum> slot_fluid_;
+  std::vector<fluid::Vec3> slot_gained_;
 };
 
-template <class Fluid>
-const ExchangedNodes& MomentumExchange::compute(const std::vector<Node>& node, const std::vector<long>& cell,
-                                                const std::vector<double>& mass,
-                                                const std::vector<fluid::Vec3>& momentum, const Fluid& fluid,
-                                                std::vector<fluid::Vec3>& particle_dp, parallel::ThreadPool* pool,
-                                                int parts) {
-  particle_dp.resize(node.size());
-  group_by_node(node, cell);
-  const long count = result_.size();
-  fluid_.resize(count);
-  result_.gained.resize(count);
-  auto range = [&](long begin, long end) {
-    fluid.gather_momenta(result_.nodes.data() + begin, end - begin, fluid_.data() + begin);
-    for (long i = begin; i < end; ++i) exchange_at(i, fluid_[i], cell, mass, momentum, particle_dp);
-  };
+template <class Rows>
+void MomentumExchange::for_rows(parallel::ThreadPool* pool, int parts, const Rows& rows) const {
   if (pool) {
-    pool->parallel_for(count, parts, range);
+    pool->parallel_for(rows_, parts, [&](long begin, long end) {
+      for (long r = begin; r < end; ++r) rows(r);
+    });
   } else {
-    range(0, count);
+    for (long r = 0; r < rows_; ++r) rows(r);
   }
-  return result_;
+}
+
+template <class Fluid>
+void MomentumExchange::compute(const std::vector<Node>& node, const std::vector<long>& cell,
+                               const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
+                               const Fluid& fluid, std::vector<fluid::Vec3>& particle_dp, parallel::ThreadPool* pool,
+                               int parts) {
+  particle_dp.resize(node.size());
+  sort_by_row(node);
+  for_rows(pool, parts, [&](long r) {
+    group_row(r, node, cell);
+    const long first = row_start_[r], count = nodes_in_row_[r];
+    if (count == 0) return;
+    fluid.gather_momenta(slot_node_.data() + first, count, slot_fluid_.data() + first);
+    for (long slot = first; slot < first + count; ++slot)
+      exchange_at(slot, slot_fluid_[slot], mass, momentum, particle_dp);
+  });
+}
+
+template <class Fluid>
+void MomentumExchange::inject(Fluid& fluid, parallel::ThreadPool* pool, int parts) const {
+  for_rows(pool, parts, [&](long r) {
+    if (nodes_in_row_[r] > 0)
+      fluid.add_momenta(slot_node_.data() + row_start_[r], slot_gained_.data() + row_start_[r], nodes_in_row_[r]);
+  });
 }
 
 }  // namespace lbsolid::coupling

@@ -36,7 +36,8 @@ class SimulationImpl final : public Simulation {
     const int n = solid_->particle_count();
     force_.resize(n);
     if (fluid_) {
-      exchange_ = std::make_unique<coupling::MomentumExchange>(fluid_->cells(), scene.exchange, scene.fluid.nx);
+      exchange_ = std::make_unique<coupling::MomentumExchange>(
+          std::array<int, 3>{scene.fluid.nx, scene.fluid.ny, scene.fluid.nz}, scene.exchange);
       node_.resize(n);
       cell_.resize(n);
       dp_.resize(n);
@@ -51,7 +52,6 @@ class SimulationImpl final : public Simulation {
   }
 
   void step() override {
-    const coupling::ExchangedNodes* exchanged = nullptr;
     const int parts = scene_.fluid.threads;
     clock_.start();
     if (exchange_) {
@@ -62,8 +62,7 @@ class SimulationImpl final : public Simulation {
         }
       });
       clock_.lap(Stage::kLocate);
-      exchanged = &exchange_->compute(node_, cell_, solid_->masses(), solid_->momenta(), *fluid_, dp_, pool_.get(),
-                                      parts);
+      exchange_->compute(node_, cell_, solid_->masses(), solid_->momenta(), *fluid_, dp_, pool_.get(), parts);
       clock_.lap(Stage::kExchange);
     }
     if (fluid_) {
@@ -71,10 +70,8 @@ class SimulationImpl final : public Simulation {
       clock_.lap(Stage::kFluid);
       // Each node's populations sit in slots no other node writes (the in-place rules are
       // involutions, FluidLattice::check_in_place_slots), so the nodes take their momentum in parts.
-      if (exchanged) {
-        pool_->parallel_for(exchanged->size(), parts, [&](long first, long end) {
-          fluid_->add_momenta(exchanged->nodes.data() + first, exchanged->gained.data() + first, end - first);
-        });
+      if (exchange_) {
+        exchange_->inject(*fluid_, pool_.get(), parts);
         clock_.lap(Stage::kInject);
       }
     }

@@ -86,6 +86,28 @@ void add_sheets(Scene& s, double per_cell) {
     }
 }
 
+// A periodic D3Q19 box of n^3 nodes with balls of radius 4 (about 270 particles each) on a
+// regular k x k x k grid: a dilute suspension (issue 15's 3D case: 27 balls in 96^3).
+Scene suspension_3d(int n, int k, int threads) {
+  Scene s;
+  s.lattice = scene::LatticeKind::kD3Q19;
+  s.fluid.threads = threads;
+  s.fluid.nx = s.fluid.ny = s.fluid.nz = n;
+  s.fluid.omega = 1.0;
+  const double pitch = static_cast<double>(n) / k;
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j)
+      for (int l = 0; l < k; ++l) {
+        solid::BodySpec ball;
+        ball.shape = solid::BodyShape::kDisk;
+        ball.radius = 4;
+        ball.centre = {(i + 0.5) * pitch, (j + 0.5) * pitch, (l + 0.5) * pitch};
+        ball.velocity = {0.01, 0, 0};
+        s.bodies.push_back(ball);
+      }
+  return s;
+}
+
 }  // namespace
 
 std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads) {
@@ -135,11 +157,29 @@ std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads) {
                     static_cast<double>(b->fluid_bytes()), static_cast<double>(b->solid_bytes()),
                     stage_seconds_per_step(*b, min_seconds)});
   }
+  // 4. The 3D suspension against its fluid-only box.
+  {
+    const int n = quick ? 64 : 96, k = quick ? 2 : 3;
+    Scene suspension = suspension_3d(n, k, threads), fluid_only = suspension;
+    fluid_only.bodies.clear();
+    auto a = scene::build_simulation(fluid_only);
+    auto b = scene::build_simulation(suspension);
+    double plain = INFINITY, with_solid = INFINITY;
+    for (int round = 0; round < 2; ++round) {
+      plain = std::min(plain, seconds_per_step([&] { a->step(); }, min_seconds));
+      with_solid = std::min(with_solid, seconds_per_step([&] { b->step(); }, min_seconds));
+    }
+    char what[64];
+    std::snprintf(what, sizeof what, "3D, %d balls of radius 4", k * k * k);
+    rows.push_back({what, "D3Q19", threads, static_cast<long>(n) * n * n, b->solid()->particle_count(), with_solid,
+                    plain, static_cast<double>(b->fluid_bytes()), static_cast<double>(b->solid_bytes()),
+                    stage_seconds_per_step(*b, min_seconds)});
+  }
   return rows;
 }
 
 void print_scene_rows(const std::vector<SceneRow>& rows) {
-  std::printf("\nscenes (D2Q7 double): what the builder adds, and what solids cost\n");
+  std::printf("\nscenes (D2Q7 double, and D3Q19 double in the last): what the builder adds, and what solids cost\n");
   std::printf("%-36s %7s %9s %10s %12s %12s %9s %12s %12s %13s\n", "scene", "threads", "cells", "particles", "ms/step",
               "ref ms/step", "ratio", "fluid MiB", "solid MiB", "ns/particle");
   for (const SceneRow& r : rows) {

@@ -120,12 +120,13 @@ struct UniformFluid {
 // One exchange leaves a lone particle and its node at the same velocity, with dP = Z (u_s - u_f),
 // 1/Z = 1/rho + 1/M (eq. 14).
 TEST(MomentumExchange, LoneParticleAndItsNodeReachOneVelocity) {
-  MomentumExchange exchange(4, ExchangeRule::kCommonVelocity);
+  MomentumExchange exchange({4, 1, 1}, ExchangeRule::kCommonVelocity);
   const fluid::Moments fluid_state{1.07, {0.01, -0.02, 0.003}};
   const double mass = 1.5;
   const Vec3 psi{0.09, 0.012, -0.03};
   std::vector<Vec3> dp;
-  const auto& nodes = exchange.compute({{1, 0, 0}}, {1}, {mass}, {psi}, UniformFluid{fluid_state}, dp);
+  exchange.compute({{1, 0, 0}}, {1}, {mass}, {psi}, UniformFluid{fluid_state}, dp);
+  const auto nodes = exchange.exchanged();
   ASSERT_EQ(nodes.size(), 1);
   const double z = 1.0 / (1.0 / fluid_state.rho + 1.0 / mass);
   double worst = 0;
@@ -148,13 +149,15 @@ TEST(MomentumExchange, SeveralParticlesOnOneNodeShareOneVelocity) {
   const std::vector<Node> nodes(4, Node{0, 0, 0});
   const std::vector<long> cells(4, 0);
   std::vector<Vec3> dp;
-  MomentumExchange common(1, ExchangeRule::kCommonVelocity);
-  const double gained = common.compute(nodes, cells, mass, psi, UniformFluid{fluid_state}, dp).gained[0][0];
+  MomentumExchange common({1, 1, 1}, ExchangeRule::kCommonVelocity);
+  common.compute(nodes, cells, mass, psi, UniformFluid{fluid_state}, dp);
+  const double gained = common.exchanged().gained[0][0];
   const double u_star = 0.8 / 9.0;
   EXPECT_NEAR(gained / fluid_state.rho, u_star, 1e-16);
   for (int p = 0; p < 4; ++p) EXPECT_NEAR((psi[p][0] - dp[p][0]) / mass[p], u_star, 1e-16);
-  MomentumExchange pairwise(1, ExchangeRule::kPairwise);
-  const double overshoot = pairwise.compute(nodes, cells, mass, psi, UniformFluid{fluid_state}, dp).gained[0][0];
+  MomentumExchange pairwise({1, 1, 1}, ExchangeRule::kPairwise);
+  pairwise.compute(nodes, cells, mass, psi, UniformFluid{fluid_state}, dp);
+  const double overshoot = pairwise.exchanged().gained[0][0];
   report("pairwise fluid velocity / particle velocity before exchange", overshoot / 0.1, 1.0);
   EXPECT_GT(overshoot / fluid_state.rho, 0.1);  // the fluid ends faster than the particles were
 }
