@@ -108,6 +108,25 @@ Scene suspension_3d(int n, int k, int threads) {
   return s;
 }
 
+// A coupled scene against the same scene without its bodies, in alternating rounds, with the
+// coupled step's stages.
+SceneRow coupled_against_fluid(const std::string& what, const std::string& lattice, const Scene& coupled,
+                               double min_seconds) {
+  Scene fluid_only = coupled;
+  fluid_only.bodies.clear();
+  auto a = scene::build_simulation(fluid_only);
+  auto b = scene::build_simulation(coupled);
+  double plain = INFINITY, with_solid = INFINITY;
+  for (int round = 0; round < 2; ++round) {
+    plain = std::min(plain, seconds_per_step([&] { a->step(); }, min_seconds));
+    with_solid = std::min(with_solid, seconds_per_step([&] { b->step(); }, min_seconds));
+  }
+  const auto& f = coupled.fluid;
+  return {what, lattice, f.threads, static_cast<long>(f.nx) * f.ny * f.nz, b->solid()->particle_count(), with_solid,
+          plain, static_cast<double>(b->fluid_bytes()), static_cast<double>(b->solid_bytes()),
+          stage_seconds_per_step(*b, min_seconds)};
+}
+
 }  // namespace
 
 std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads) {
@@ -142,38 +161,18 @@ std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads) {
   }
   // 3. Coupled steps at 0.1 and 1 particle per fluid cell, against the fluid-only step.
   for (double per_cell : {0.1, 1.0}) {
-    Scene fluid_only = paper_box(n, threads), coupled = paper_box(n, threads);
+    Scene coupled = paper_box(n, threads);
     add_sheets(coupled, per_cell);
-    auto a = scene::build_simulation(fluid_only);
-    auto b = scene::build_simulation(coupled);
-    double plain = INFINITY, with_solid = INFINITY;
-    for (int round = 0; round < 2; ++round) {
-      plain = std::min(plain, seconds_per_step([&] { a->step(); }, min_seconds));
-      with_solid = std::min(with_solid, seconds_per_step([&] { b->step(); }, min_seconds));
-    }
     char what[64];
     std::snprintf(what, sizeof what, "coupled, %.1f particles per cell", per_cell);
-    rows.push_back({what, "D2Q7", threads, static_cast<long>(n) * n, b->solid()->particle_count(), with_solid, plain,
-                    static_cast<double>(b->fluid_bytes()), static_cast<double>(b->solid_bytes()),
-                    stage_seconds_per_step(*b, min_seconds)});
+    rows.push_back(coupled_against_fluid(what, "D2Q7", coupled, min_seconds));
   }
   // 4. The 3D suspension against its fluid-only box.
   {
-    const int n = quick ? 64 : 96, k = quick ? 2 : 3;
-    Scene suspension = suspension_3d(n, k, threads), fluid_only = suspension;
-    fluid_only.bodies.clear();
-    auto a = scene::build_simulation(fluid_only);
-    auto b = scene::build_simulation(suspension);
-    double plain = INFINITY, with_solid = INFINITY;
-    for (int round = 0; round < 2; ++round) {
-      plain = std::min(plain, seconds_per_step([&] { a->step(); }, min_seconds));
-      with_solid = std::min(with_solid, seconds_per_step([&] { b->step(); }, min_seconds));
-    }
+    const int side = quick ? 64 : 96, k = quick ? 2 : 3;
     char what[64];
     std::snprintf(what, sizeof what, "3D, %d balls of radius 4", k * k * k);
-    rows.push_back({what, "D3Q19", threads, static_cast<long>(n) * n * n, b->solid()->particle_count(), with_solid,
-                    plain, static_cast<double>(b->fluid_bytes()), static_cast<double>(b->solid_bytes()),
-                    stage_seconds_per_step(*b, min_seconds)});
+    rows.push_back(coupled_against_fluid(what, "D3Q19", suspension_3d(side, k, threads), min_seconds));
   }
   return rows;
 }
