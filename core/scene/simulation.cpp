@@ -34,7 +34,6 @@ class SimulationImpl final : public Simulation {
       loads_ = loads_ || nonzero(spec.load);
     }
     const int n = solid_->particle_count();
-    force_.resize(n);
     if (fluid_) {
       exchange_ = std::make_unique<coupling::MomentumExchange>(
           std::array<int, 3>{scene.fluid.nx, scene.fluid.ny, scene.fluid.nz}, scene.exchange);
@@ -76,17 +75,16 @@ class SimulationImpl final : public Simulation {
       }
     }
     if (solid_) {
-      // Loads, the exchange's reaction, then wall contact (which needs every other force).
-      pool_->parallel_for(solid_->particle_count(), parts, [&](long first, long end) {
-        for (long p = first; p < end; ++p) {
-          force_[p] = loads_ ? solid_->body(solid_->body_of(static_cast<int>(p))).load : Vec3{0, 0, 0};
-          if (exchange_)
-            for (int a = 0; a < 3; ++a) force_[p][a] -= dp_[p][a];
-        }
-        if (walls_.any()) solid::add_wall_contact(walls_, *solid_, force_, static_cast<int>(first), static_cast<int>(end));
-      });
-      clock_.lap(Stage::kForces);
-      solid_->step(force_, pool_.get(), parts);
+      // The forces on each particle (loads, the exchange's reaction, then wall contact, which needs
+      // every other force) are summed as the solid's step reaches it.
+      const auto force = [&](int p) {
+        Vec3 f = loads_ ? solid_->body(solid_->body_of(p)).load : Vec3{0, 0, 0};
+        if (exchange_)
+          for (int a = 0; a < 3; ++a) f[a] -= dp_[p][a];
+        if (walls_.any()) solid::add_wall_contact(walls_, *solid_, p, f);
+        return f;
+      };
+      solid_->step(force, pool_.get(), parts);
       clock_.lap(Stage::kSolid);
     }
     ++steps_;
@@ -119,7 +117,7 @@ class SimulationImpl final : public Simulation {
   std::size_t fluid_bytes() const override { return fluid_ ? fluid_->bytes_allocated() : 0; }
   std::size_t solid_bytes() const override {
     if (!solid_) return 0;
-    std::size_t bytes = solid_->bytes_allocated() + force_.capacity() * sizeof(Vec3);
+    std::size_t bytes = solid_->bytes_allocated();
     if (exchange_)
       bytes += exchange_->bytes_allocated() + node_.capacity() * sizeof(coupling::Node) +
                cell_.capacity() * sizeof(long) + dp_.capacity() * sizeof(Vec3);
@@ -232,7 +230,7 @@ class SimulationImpl final : public Simulation {
   // Per-particle scratch, reused every step.
   std::vector<coupling::Node> node_;
   std::vector<long> cell_;
-  std::vector<Vec3> dp_, force_;
+  std::vector<Vec3> dp_;
   StageClock clock_;
 };
 

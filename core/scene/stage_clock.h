@@ -8,13 +8,14 @@
 namespace lbsolid::scene {
 
 // locate: each particle's nearest node; exchange: the momentum exchange, reading the fluid;
-// fluid: the fluid's step; inject: the exchanged momentum into the fluid; forces: loads, the
-// exchange's reaction and wall contact; solid: the solid's step; monitor: the stability check.
-enum class Stage { kLocate, kExchange, kFluid, kInject, kForces, kSolid, kMonitor };
-inline constexpr int kStageCount = 7;
+// fluid: the fluid's step; inject: the exchanged momentum into the fluid; solid: the solid's step
+// with the forces on each particle (loads, the exchange's reaction, wall contact) summed as it
+// goes; monitor: the stability check.
+enum class Stage { kLocate, kExchange, kFluid, kInject, kSolid, kMonitor };
+inline constexpr int kStageCount = 6;
 
 inline const char* stage_name(Stage stage) {
-  constexpr const char* kNames[kStageCount] = {"locate", "exchange", "fluid", "inject", "forces", "solid", "monitor"};
+  constexpr const char* kNames[kStageCount] = {"locate", "exchange", "fluid", "inject", "solid", "monitor"};
   return kNames[static_cast<int>(stage)];
 }
 

@@ -1,7 +1,6 @@
 #include "solid/solid_system.h"
 
 #include <algorithm>
-#include <functional>
 #include <map>
 #include <stdexcept>
 
@@ -49,37 +48,8 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
       outgoing_.push_back({0, 0, 0});
     }
   momentum_.resize(particle_count());
-  update_momentum(first, first + n);
+  links_ == 6 ? update_momentum<6>(first, first + n) : update_momentum<4>(first, first + n);
   return body;
-}
-
-void SolidSystem::step(const std::vector<Vec3>& force, parallel::ThreadPool* pool, int parts) {
-  const int n = particle_count();
-  auto for_parts = [&](const std::function<void(long, long)>& range) {
-    if (pool) pool->parallel_for(n, parts, range);
-    else range(0, n);
-  };
-  for_parts([&](long first, long end) { advance(force, static_cast<int>(first), static_cast<int>(end)); });
-  incoming_.swap(outgoing_);
-  for_parts([&](long first, long end) { update_momentum(static_cast<int>(first), static_cast<int>(end)); });
-}
-
-// Eq. 7 and the wave rule for particles [first, end): positions, and the vectors each sends.
-void SolidSystem::advance(const std::vector<Vec3>& force, int first, int end) {
-  for (int p = first; p < end; ++p) {
-    const Vec3& psi = momentum_[p];
-    const double inv_m = 1.0 / mass_[p];
-    Vec3 base;  // Psi/M + F/(2M): the displacement, and the common part of every outgoing vector
-    for (int a = 0; a < 3; ++a) base[a] = (psi[a] + 0.5 * force[p][a]) * inv_m;
-    for (int k = 0; k < links_; ++k) {
-      const int q = neighbours_[p * links_ + k];
-      if (q < 0) continue;
-      const Vec3& back = incoming_[p * links_ + topology_.opposite(k)];
-      Vec3& out = outgoing_[q * links_ + k];
-      for (int a = 0; a < 3; ++a) out[a] = base[a] - back[a];
-    }
-    for (int a = 0; a < 3; ++a) positions_[p][a] += base[a];
-  }
 }
 
 Vec3 SolidSystem::rest_separation(int p, int k) const {
@@ -87,15 +57,6 @@ Vec3 SolidSystem::rest_separation(int p, int k) const {
   const Label c = topology_.link(k);
   const double spacing = bodies_[body_index_[p]].spacing;
   return {spacing * c[0], spacing * c[1], spacing * c[2]};
-}
-
-void SolidSystem::update_momentum(int first, int end) {
-  for (int p = first; p < end; ++p) {
-    Vec3 psi{0, 0, 0};
-    for (int k = 0; k < links_; ++k)
-      for (int a = 0; a < 3; ++a) psi[a] += incoming_[p * links_ + k][a];
-    momentum_[p] = psi;
-  }
 }
 
 double SolidSystem::energy(int p) const {

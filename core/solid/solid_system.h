@@ -42,11 +42,17 @@ class SolidSystem {
   int add_body(const std::string& name, const std::vector<Label>& labels, double spacing,
                const Vec3& centre, const Vec3& velocity, const Vec3& load);
 
-  // One step with the total external force on every particle (loads included by the caller).
+  // One step with the total external force on particle p given by `force(p)` (a Vec3, loads
+  // included by the caller), evaluated once per particle as the step reaches it: it may read this
+  // system's momentum, position and mass of p, which are still those before the step.
   // With a pool, the particles are cut into `parts` ranges run on it: each particle writes only
   // its own position and the one outgoing slot of each of its links, so the result is the same
   // bit for bit.
-  void step(const std::vector<Vec3>& force, parallel::ThreadPool* pool = nullptr, int parts = 1);
+  template <class Force>
+  void step(const Force& force, parallel::ThreadPool* pool = nullptr, int parts = 1);
+  void step(const std::vector<Vec3>& force, parallel::ThreadPool* pool = nullptr, int parts = 1) {
+    step([&force](int p) -> const Vec3& { return force[p]; }, pool, parts);
+  }
 
   const SolidTopology& topology() const { return topology_; }
   int dimension() const { return topology_.dimension; }
@@ -87,8 +93,65 @@ class SolidSystem {
   std::vector<Vec3> incoming_;   // f_k(p) at time t
   std::vector<Vec3> outgoing_;   // written by step(), then swapped in
   std::vector<Vec3> momentum_;   // Psi of the incoming vectors: read by the exchange, contact and step
+  // Per dimension (Links = 4 or 6) so that the link loops unroll and opp(k) is a constant.
+  template <int Links>
   void update_momentum(int first, int end);
-  void advance(const std::vector<Vec3>& force, int first, int end);
+  template <int Links, class Force>
+  void advance(const Force& force, int first, int end);
+  template <class Range>
+  void for_parts(parallel::ThreadPool* pool, int parts, const Range& range);
 };
+
+template <class Range>
+void SolidSystem::for_parts(parallel::ThreadPool* pool, int parts, const Range& range) {
+  const int n = particle_count();
+  if (pool) pool->parallel_for(n, parts, [&](long first, long end) { range(static_cast<int>(first), static_cast<int>(end)); });
+  else range(0, n);
+}
+
+template <class Force>
+void SolidSystem::step(const Force& force, parallel::ThreadPool* pool, int parts) {
+  const bool cubic = links_ == 6;
+  for_parts(pool, parts, [&](int first, int end) {
+    cubic ? advance<6>(force, first, end) : advance<4>(force, first, end);
+  });
+  incoming_.swap(outgoing_);
+  for_parts(pool, parts, [&](int first, int end) {
+    cubic ? update_momentum<6>(first, end) : update_momentum<4>(first, end);
+  });
+}
+
+// Eq. 7 and the wave rule for particles [first, end): positions, and the vectors each sends.
+template <int Links, class Force>
+void SolidSystem::advance(const Force& force, int first, int end) {
+  for (int p = first; p < end; ++p) {
+    const Vec3 f = force(p);
+    const Vec3& psi = momentum_[p];
+    const double inv_m = 1.0 / mass_[p];
+    Vec3 base;  // Psi/M + F/(2M): the displacement, and the common part of every outgoing vector
+    for (int a = 0; a < 3; ++a) base[a] = (psi[a] + 0.5 * f[a]) * inv_m;
+    const int* neighbour = &neighbours_[static_cast<std::size_t>(p) * Links];
+    const Vec3* in = &incoming_[static_cast<std::size_t>(p) * Links];
+    for (int k = 0; k < Links; ++k) {
+      const int q = neighbour[k];
+      if (q < 0) continue;
+      const Vec3& back = in[(k + Links / 2) % Links];  // f_opp(k)(p)
+      Vec3& out = outgoing_[static_cast<std::size_t>(q) * Links + k];
+      for (int a = 0; a < 3; ++a) out[a] = base[a] - back[a];
+    }
+    for (int a = 0; a < 3; ++a) positions_[p][a] += base[a];
+  }
+}
+
+template <int Links>
+void SolidSystem::update_momentum(int first, int end) {
+  for (int p = first; p < end; ++p) {
+    const Vec3* in = &incoming_[static_cast<std::size_t>(p) * Links];
+    Vec3 psi{0, 0, 0};
+    for (int k = 0; k < Links; ++k)
+      for (int a = 0; a < 3; ++a) psi[a] += in[k][a];
+    momentum_[p] = psi;
+  }
+}
 
 }  // namespace lbsolid::solid

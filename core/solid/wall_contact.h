@@ -23,10 +23,19 @@ struct ContactWalls {
   }
 };
 
-// Adds the contact force to `force` (which holds every other force) for particles about to cross,
-// among particles [first, end) (all by default). Each particle reads and writes only its own
-// entries, so ranges may run at once.
-void add_wall_contact(const ContactWalls& walls, const SolidSystem& solid, std::vector<Vec3>& force, int first = 0,
-                      int end = -1);
+// Adds the contact force on particle p to `force` (which holds every other force on it) if p is
+// about to cross a wall. Reads only p's own state.
+inline void add_wall_contact(const ContactWalls& walls, const SolidSystem& solid, int p, Vec3& force) {
+  const Vec3& psi = solid.momentum(p);
+  const Vec3& r = solid.position(p);
+  const double m = solid.mass(p);
+  for (int axis = 0; axis < solid.dimension(); ++axis) {
+    const double push = psi[axis] + 0.5 * force[axis];  // P.n, n along the axis
+    const double arrival = r[axis] + push / m;
+    const bool through_low = walls.present[2 * axis] && push < 0 && arrival < walls.position[2 * axis];
+    const bool through_high = walls.present[2 * axis + 1] && push > 0 && arrival > walls.position[2 * axis + 1];
+    if (through_low || through_high) force[axis] -= (1.0 + walls.restitution) * push;
+  }
+}
 
 }  // namespace lbsolid::solid

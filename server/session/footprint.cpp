@@ -53,12 +53,12 @@ long long particles_of(const v1::Body& body, int dimension) {
 }
 
 // Bytes per particle in SolidSystem and, with a fluid, in the exchange (scene/simulation.cpp):
-// body index 4, label 12, position 24, mass 8, momentum 24, force 24, per link a neighbour index 4
+// body index 4, label 12, position 24, mass 8, momentum 24, per link a neighbour index 4
 // and incoming and outgoing vectors 48; exchange: node 12, cell 8, momentum 24, chain link 4 and a
 // node record of 80. Doubled: arrays grown by push_back may hold up to twice their size.
 long long bytes_per_particle(int dimension, bool with_fluid) {
   const int links = 2 * dimension;
-  const long long solid = 4 + 12 + 24 + 8 + 24 + 24 + links * (4 + 48);
+  const long long solid = 4 + 12 + 24 + 8 + 24 + links * (4 + 48);
   const long long exchange = with_fluid ? 12 + 8 + 24 + 4 + 80 : 0;
   return 2 * (solid + exchange);
 }
