@@ -95,28 +95,25 @@ struct BgkCollision {
                                                 T(0.5) * usq * kInvCs2));
   }
 
-  // One collision in place. With kForce, F is the force on this node, applied by Guo's scheme
-  // (guo_forcing.h): the momentum gained is exactly F.
-  template <bool kForce>
-  static LBSOLID_FORCE_INLINE void collide(T* f, T omega, T rho0, const T (&force)[3]) {
-    collide_directions<kForce>(f, omega, rho0, force, std::make_integer_sequence<int, Q>{});
+  // Population K after the collision, from its value f_K before and the node's state: relaxed
+  // towards equilibrium and, with kForce, given Guo's source for the force F on this node
+  // (guo_forcing.h): summed over K the momentum gained is exactly F.
+  template <bool kForce, int K>
+  static LBSOLID_FORCE_INLINE T relaxed(T f_k, const NodeState& s, T omega, const T (&force)[3]) {
+    const T cu = c_dot<K>(s.u);
+    const T feq = T(L::w[K]) * (s.isotropic + s.rho * cu * (kInvCs2 + T(0.5) * cu * kInvCs2 * kInvCs2));
+    f_k += omega * (feq - f_k);
+    if constexpr (kForce) f_k += Guo::template source<K>(T(1) - T(0.5) * omega, cu, c_dot<K>(force), s.u_dot_force);
+    return f_k;
   }
 
- private:
-  template <bool kForce, int... I>
-  static LBSOLID_FORCE_INLINE void collide_directions(T* f, T omega, T rho0, const T (&force)[3],
-                                        std::integer_sequence<int, I...>) {
+  // One collision in place.
+  template <bool kForce>
+  static LBSOLID_FORCE_INLINE void collide(T* f, T omega, T rho0, const T (&force)[3]) {
     const NodeState s = node_state<kForce>(f, rho0, force);
-    const T rho = s.rho, isotropic = s.isotropic, u_dot_force = s.u_dot_force;
-    const T(&u)[3] = s.u;
-    const T source_scale = T(1) - T(0.5) * omega;
-    auto relax = [&]<int K>(std::integral_constant<int, K>) __attribute__((always_inline)) {
-      const T cu = c_dot<K>(u);
-      const T feq = T(L::w[K]) * (isotropic + rho * cu * (kInvCs2 + T(0.5) * cu * kInvCs2 * kInvCs2));
-      f[K] += omega * (feq - f[K]);
-      if constexpr (kForce) f[K] += Guo::template source<K>(source_scale, cu, c_dot<K>(force), u_dot_force);
-    };
-    (relax(std::integral_constant<int, I>{}), ...);
+    [&]<int... K>(std::integer_sequence<int, K...>) __attribute__((always_inline)) {
+      ((f[K] = relaxed<kForce, K>(f[K], s, omega, force)), ...);
+    }(std::make_integer_sequence<int, Q>{});
   }
 };
 
