@@ -80,4 +80,21 @@ LBSOLID_FORCE_INLINE void update_cells(const T* const (&in)[L::Q], const T (&in_
                                                                  rho0, begin, end);
 }
 
+// update_cells for cells whose reads and writes may carry wall corrections: with corrections
+// only if one of them is non-zero. Cells away from walls have none, and adding 2 Q zeros per cell
+// costs the adds and the registers to hold them (D3Q19 in place: about 8% of the pulling step).
+// x + 0 is x (a zero may change sign, which no later arithmetic sees).
+template <class L, class T, class Collision, bool kForce>
+LBSOLID_FORCE_INLINE void update_corrected_cells(const T* const (&in)[L::Q], const T (&in_correction)[L::Q],
+                                                 T* const (&out)[L::Q], const T (&out_correction)[L::Q],
+                                                 const T (&force)[3], typename Collision::Rates rates, T rho0,
+                                                 long begin, long end) {
+  bool corrected = false;
+  for (int i = 0; i < L::Q; ++i) corrected = corrected || in_correction[i] != T(0) || out_correction[i] != T(0);
+  if (corrected)
+    update_cells<L, T, Collision, kForce, true>(in, in_correction, out, out_correction, force, rates, rho0, begin, end);
+  else
+    update_cells<L, T, Collision, kForce, false>(in, in_correction, out, out_correction, force, rates, rho0, begin, end);
+}
+
 }  // namespace lbsolid::fluid

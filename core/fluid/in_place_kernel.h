@@ -65,7 +65,7 @@ void stream_collide_in_place_rows(const RowPlans<L, T>& plans, T* f, long stride
         out[k] = slot[opp[k]];
         out_corr[k] = corr[opp[k]];
       }
-      update_cells<L, T, Collision, kForce, true>(in, corr, out, out_corr, force, rates, rho0, begin, end);
+      update_corrected_cells<L, T, Collision, kForce>(in, corr, out, out_corr, force, rates, rho0, begin, end);
     };
     const long row_start = row * nx;
     sweep(0, row_start, row_start + 1);

@@ -30,7 +30,7 @@ void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long
       corr[i] = s.correction;
     }
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
-    update_cells<L, T, Collision, kForce, true>(in, corr, out, no_corr, force, rates, rho0, begin, end);
+    update_corrected_cells<L, T, Collision, kForce>(in, corr, out, no_corr, force, rates, rho0, begin, end);
   };
   for (long first = row_begin; first < row_end;) {
     const RowPlan<T, Q>& plan = plans.for_row(first);
