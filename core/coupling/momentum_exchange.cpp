@@ -46,6 +46,14 @@ void MomentumExchange::sort_by_row(const std::vector<Node>& node) {
   std::fill(nodes_in_row_.begin(), nodes_in_row_.end(), 0);
 }
 
+long MomentumExchange::first_row_of_part(long part, int parts) const {
+  if (part >= parts) return rows_;
+  const long particles = row_start_[rows_];
+  const long target = particles * part / parts;
+  // The first row whose particles start at or after the target: row_start_ never decreases.
+  return std::lower_bound(row_start_.begin(), row_start_.begin() + rows_, target) - row_start_.begin();
+}
+
 void MomentumExchange::group_row(long r, const std::vector<Node>& node, const std::vector<long>& cell) {
   const long first = row_start_[r];
   long count = 0;

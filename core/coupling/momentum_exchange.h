@@ -34,9 +34,9 @@ class MomentumExchange {
   // what each node's fluid gains for inject().
   //
   // The particles are sorted by fluid row (a counting sort, serial and in order); then the rows
-  // are independent: with a pool they are cut into `parts` ranges run on it, each row grouping its
-  // particles by node (in a per-cell list no other row touches), reading its nodes' fluid in one
-  // batch and exchanging, so that the fluid is read, and later written, a row at a time. Within a
+  // are independent: with a pool they are cut into `parts` ranges of about equal particle counts
+  // run on it, each row grouping its particles by node (in a per-cell list no other row touches),
+  // reading its nodes' fluid in one batch and exchanging, so that the fluid is read, and later written, a row at a time. Within a
   // row the nodes come in the order of their first particle, and a node's particles in descending
   // order: the result is the same bit for bit for any number of parts. `fluid` must then allow
   // several threads to gather at once (a const read).
@@ -63,6 +63,9 @@ class MomentumExchange {
                    const std::vector<fluid::Vec3>& momentum, std::vector<fluid::Vec3>& particle_dp);
   template <class Rows>
   void for_rows(parallel::ThreadPool* pool, int parts, const Rows& rows) const;
+  // The first row of part `part` of `parts`, the rows being cut so that each part holds about as
+  // many particles as the others (particles often fill a few rows: a sediment, a dilute layer).
+  long first_row_of_part(long part, int parts) const;
 
   ExchangeRule rule_;
   int ny_;
@@ -83,9 +86,9 @@ class MomentumExchange {
 
 template <class Rows>
 void MomentumExchange::for_rows(parallel::ThreadPool* pool, int parts, const Rows& rows) const {
-  if (pool) {
-    pool->parallel_for(rows_, parts, [&](long begin, long end) {
-      for (long r = begin; r < end; ++r) rows(r);
+  if (pool && parts > 1) {
+    pool->parallel_for(parts, parts, [&](long first_part, long end_part) {
+      for (long r = first_row_of_part(first_part, parts); r < first_row_of_part(end_part, parts); ++r) rows(r);
     });
   } else {
     for (long r = 0; r < rows_; ++r) rows(r);
