@@ -20,12 +20,13 @@ MomentumExchange::MomentumExchange(const std::array<int, 3>& grid, ExchangeRule 
 
 std::size_t MomentumExchange::bytes_allocated() const {
   return head_.capacity() * sizeof(int) + (next_.capacity() + by_row_.capacity()) * sizeof(int) +
-         (row_of_.capacity() + row_start_.capacity() + nodes_in_row_.capacity() + slot_cell_.capacity()) * sizeof(long) +
+         (row_of_.capacity() + row_start_.capacity() + nodes_in_row_.capacity() + slot_cell_.capacity() +
+          cursor_.capacity()) * sizeof(long) +
          slot_node_.capacity() * sizeof(Node) + slot_fluid_.capacity() * sizeof(fluid::DensityMomentum) +
          slot_gained_.capacity() * sizeof(fluid::Vec3);
 }
 
-void MomentumExchange::sort_by_row(const std::vector<Node>& node) {
+void MomentumExchange::sort_by_row(const std::vector<Node>& node, parallel::ThreadPool* pool, int parts) {
   const long n = static_cast<long>(node.size());
   next_.resize(n);
   row_of_.resize(n);
@@ -36,14 +37,35 @@ void MomentumExchange::sort_by_row(const std::vector<Node>& node) {
   slot_gained_.resize(n);
   nodes_in_row_.assign(rows_, 0);
   row_start_.assign(rows_ + 1, 0);
-  for (long p = 0; p < n; ++p) {
-    row_of_[p] = node[p][1] + static_cast<long>(ny_) * node[p][2];
-    ++row_start_[row_of_[p] + 1];
+  if (!pool || parts < 2) parts = 1;
+  // Particles [n k / parts, n (k + 1) / parts) are part k's. Each part counts its particles per
+  // row, then places them after those of the parts before it: the order of a serial sort.
+  cursor_.assign(static_cast<std::size_t>(parts) * rows_, 0);
+  auto for_parts = [&](const auto& work) {
+    auto run = [&](long first, long end) {
+      for (long k = first; k < end; ++k) work(&cursor_[k * rows_], n * k / parts, n * (k + 1) / parts);
+    };
+    if (parts == 1) run(0, 1);
+    else pool->parallel_for(parts, parts, run);
+  };
+  for_parts([&](long* count, long first, long end) {
+    for (long p = first; p < end; ++p) {
+      row_of_[p] = node[p][1] + static_cast<long>(ny_) * node[p][2];
+      ++count[row_of_[p]];
+    }
+  });
+  for (long r = 0; r < rows_; ++r) {
+    long placed = row_start_[r];
+    for (long k = 0; k < parts; ++k) {
+      const long count = cursor_[k * rows_ + r];
+      cursor_[k * rows_ + r] = placed;
+      placed += count;
+    }
+    row_start_[r + 1] = placed;
   }
-  for (long r = 0; r < rows_; ++r) row_start_[r + 1] += row_start_[r];
-  // Placed with a cursor per row, borrowed from nodes_in_row_ (zero again afterwards).
-  for (long p = 0; p < n; ++p) by_row_[row_start_[row_of_[p]] + nodes_in_row_[row_of_[p]]++] = static_cast<int>(p);
-  std::fill(nodes_in_row_.begin(), nodes_in_row_.end(), 0);
+  for_parts([&](long* cursor, long first, long end) {
+    for (long p = first; p < end; ++p) by_row_[cursor[row_of_[p]]++] = static_cast<int>(p);
+  });
 }
 
 long MomentumExchange::first_row_of_part(long part, int parts) const {

@@ -33,7 +33,7 @@ class MomentumExchange {
   // (FluidLattice's batched call). Fills `particle_dp` (momentum each particle gives) and keeps
   // what each node's fluid gains for inject().
   //
-  // The particles are sorted by fluid row (a counting sort, serial and in order); then the rows
+  // The particles are sorted by fluid row (a stable counting sort, in the same parts); then the rows
   // are independent: with a pool they are cut into `parts` ranges of about equal particle counts
   // run on it, each row grouping its particles by node (in a per-cell list no other row touches),
   // reading its nodes' fluid in one batch and exchanging, so that the fluid is read, and later written, a row at a time. Within a
@@ -55,7 +55,7 @@ class MomentumExchange {
   std::size_t bytes_allocated() const;
 
  private:
-  void sort_by_row(const std::vector<Node>& node);
+  void sort_by_row(const std::vector<Node>& node, parallel::ThreadPool* pool, int parts);
   // Groups row r's particles by node, and lists its nodes at slots from row_start_[r] on.
   void group_row(long r, const std::vector<Node>& node, const std::vector<long>& cell);
   // The exchange at one listed node, its fluid being `f`.
@@ -75,6 +75,7 @@ class MomentumExchange {
   std::vector<long> row_of_;     // per particle: its fluid row, y + ny z
   std::vector<long> row_start_;  // per row: its first entry in by_row_ (and its first slot)
   std::vector<int> by_row_;      // the particles, row by row
+  std::vector<long> cursor_;     // per part of the sort and row: a count, then where it places next
   std::vector<long> nodes_in_row_;  // per row: nodes listed
   // Per slot (row_start_[r] + k for the k-th node of row r): the node, its cell, what it reads
   // and what it gains.
@@ -101,7 +102,7 @@ void MomentumExchange::compute(const std::vector<Node>& node, const std::vector<
                                const Fluid& fluid, std::vector<fluid::Vec3>& particle_dp, parallel::ThreadPool* pool,
                                int parts) {
   particle_dp.resize(node.size());
-  sort_by_row(node);
+  sort_by_row(node, pool, parts);
   for_rows(pool, parts, [&](long r) {
     group_row(r, node, cell);
     const long first = row_start_[r], count = nodes_in_row_[r];
