@@ -37,7 +37,9 @@ void MomentumExchange::sort_by_row(const std::vector<Node>& node, parallel::Thre
   slot_gained_.resize(n);
   nodes_in_row_.assign(rows_, 0);
   row_start_.assign(rows_ + 1, 0);
-  if (!pool || parts < 2) parts = 1;
+  // At most 1 + n / rows parts, so that the per-part counters (parts x rows) stay within one per
+  // row plus one per particle however many threads a session has and however short its rows.
+  parts = pool ? static_cast<int>(std::clamp<long>(1 + n / std::max(rows_, 1L), 1, parts)) : 1;
   // Particles [n k / parts, n (k + 1) / parts) are part k's. Each part counts its particles per
   // row, then places them after those of the parts before it: the order of a serial sort.
   cursor_.assign(static_cast<std::size_t>(parts) * rows_, 0);
