@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -42,11 +43,17 @@ double rate_over(v1::Simulation::Stub& stub, const std::vector<std::string>& ids
   return static_cast<double>(after - before) / std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// The q-quantile of sorted, non-empty values (the lower neighbour, no interpolation).
+double percentile(const std::vector<double>& sorted, double q) {
+  return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
+}
+
 class Tally {
  public:
-  void control(double ms) {
+  void control(const std::string& rpc, double ms) {
     std::lock_guard lock(mutex_);
     latencies_.push_back(ms);
+    by_rpc_[rpc].push_back(ms);
   }
   void call(const std::string& rpc, const grpc::Status& status) {
     std::lock_guard lock(mutex_);
@@ -61,10 +68,13 @@ class Tally {
     std::sort(latencies_.begin(), latencies_.end());
     report_.control_calls = static_cast<long>(latencies_.size());
     if (!latencies_.empty()) {
-      const auto at = [&](double q) { return latencies_[static_cast<std::size_t>(q * (latencies_.size() - 1))]; };
-      report_.p50_ms = at(0.5);
-      report_.p99_ms = at(0.99);
+      report_.p50_ms = percentile(latencies_, 0.5);
+      report_.p99_ms = percentile(latencies_, 0.99);
       report_.max_ms = latencies_.back();
+    }
+    for (auto& [rpc, ms] : by_rpc_) {
+      std::sort(ms.begin(), ms.end());
+      report_.by_rpc.push_back({rpc, static_cast<long>(ms.size()), percentile(ms, 0.5), percentile(ms, 0.99)});
     }
     return report_;
   }
@@ -72,6 +82,7 @@ class Tally {
  private:
   std::mutex mutex_;
   std::vector<double> latencies_;
+  std::map<std::string, std::vector<double>> by_rpc_;
   LoadReport report_;
 };
 
@@ -81,7 +92,7 @@ void timed(Tally& tally, const std::string& rpc, Call&& call) {
   auto context = deadline_context(30);
   const auto start = Clock::now();
   const grpc::Status status = call(context.get());
-  tally.control(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  tally.control(rpc, std::chrono::duration<double, std::milli>(Clock::now() - start).count());
   tally.call(rpc, status);
 }
 
@@ -251,6 +262,8 @@ std::string describe(const LoadReport& r, const LoadOptions& o) {
       << " (" << 100.0 * r.steps_per_second_loaded / std::max(1e-9, r.steps_per_second_alone) << "%)\n"
       << "  CPU under load (cores): daemon simulation threads " << r.daemon_base_cores << ", daemon call threads "
       << r.daemon_call_cores << ", clients " << r.client_cores << "\n";
+  for (const auto& c : r.by_rpc)
+    out << "    " << c.rpc << ": " << c.calls << " calls, p50 " << c.p50_ms << " ms, p99 " << c.p99_ms << " ms\n";
   for (const auto& e : r.error_samples) out << "  error: " << e << "\n";
   return out.str();
 }

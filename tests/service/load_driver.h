@@ -28,6 +28,12 @@ struct LoadReport {
   std::vector<std::string> error_samples;  // the first few "<rpc>: <code> <message>"
   double p50_ms = 0, p99_ms = 0, max_ms = 0;  // control calls
   long control_calls = 0;
+  struct PerRpc {
+    std::string rpc;
+    long calls = 0;
+    double p50_ms = 0, p99_ms = 0;
+  };
+  std::vector<PerRpc> by_rpc;  // the control calls by method
   double steps_per_second_alone = 0;   // background sessions together, no clients
   double steps_per_second_loaded = 0;  // the same, under the load
   // Where the CPU went while the loaded rate was measured, in cores (CPU seconds per second):
