@@ -27,6 +27,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/time/time.h"
+#include "server/auth/transport.h"
 #include "server/service/simulation_service.h"
 #include "server/session/session_manager.h"
 #include "server/session/thread_priority.h"
@@ -46,6 +47,9 @@ ABSL_FLAG(int64_t, max_particles, int64_t{1} << 24, "solid particles of all sess
 ABSL_FLAG(int, max_fluid_threads, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())),
           "threads of the one pool that every session's fluid steps share, beyond the thread stepping each "
           "session (a session's scenario.fluid.threads cuts its steps into that many parts)");
+ABSL_FLAG(int, owner_max_sessions, 0, "sessions one owner may hold at once; 0: --max_sessions");
+ABSL_FLAG(int64_t, owner_max_memory, 0, "bytes one owner's sessions may take, as --max_memory; 0: --max_memory");
+ABSL_FLAG(int, owner_max_running, 0, "sessions one owner may run at once; 0: --max_sessions");
 ABSL_FLAG(absl::Duration, autosave_interval, absl::Minutes(2),
           "wall time between automatic saves of every session that changed (a crash loses at most this); 0 "
           "turns them off");
@@ -54,6 +58,17 @@ ABSL_FLAG(int, call_nice, 10,
           "nice levels below the simulation workers at which calls are answered (0-19; 0: the same priority), "
           "so that a crowd of clients slows the calls rather than the runs");
 ABSL_FLAG(absl::Duration, max_connection_idle, absl::Minutes(5), "a connection without calls this long is closed");
+ABSL_FLAG(std::string, tls_cert, "", "PEM certificate chain: serve TLS (with --tls_key)");
+ABSL_FLAG(std::string, tls_key, "", "PEM private key of --tls_cert");
+ABSL_FLAG(std::string, tls_client_ca, "",
+          "PEM CA certificates: require client certificates signed by them (mutual TLS); the certificate's common "
+          "name is the caller's owner name unless a bearer token is sent");
+ABSL_FLAG(std::string, tokens_file, "",
+          "lines `<sha256 hex of a token> <owner> <user|admin>`: calls must send `authorization: Bearer <token>`; "
+          "reloaded on SIGHUP");
+ABSL_FLAG(bool, allow_insecure, false,
+          "serve an address that is not loopback or a Unix socket without TLS or without authenticating callers");
+ABSL_FLAG(bool, reflection, true, "serve gRPC reflection (grpcurl, grpc_cli)");
 ABSL_FLAG(std::string, port_file, "", "if set, the port actually bound is written there (for tests and scripts)");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn or error");
 
@@ -131,6 +146,37 @@ int main(int argc, char** argv) {
     return fail_start("--max_connection_idle: must be at least 1s");
   if (limits.max_sessions < 1) return fail_start("--max_sessions: must be at least 1");
   if (limits.max_cells < 1) return fail_start("--max_cells: must be at least 1");
+  const auto quota = [](auto flag, auto whole) { return flag == 0 ? whole : flag; };
+  limits.per_owner.sessions = quota(absl::GetFlag(FLAGS_owner_max_sessions), limits.max_sessions);
+  limits.per_owner.memory_bytes = quota(absl::GetFlag(FLAGS_owner_max_memory), limits.max_memory_bytes);
+  limits.per_owner.running = quota(absl::GetFlag(FLAGS_owner_max_running), limits.max_sessions);
+  if (limits.per_owner.sessions < 0) return fail_start("--owner_max_sessions: must not be negative");
+  if (limits.per_owner.memory_bytes < 0) return fail_start("--owner_max_memory: must not be negative");
+  if (limits.per_owner.running < 0) return fail_start("--owner_max_running: must not be negative");
+
+  std::shared_ptr<lbsolid::server::auth::TokenTable> tokens;
+  if (!absl::GetFlag(FLAGS_tokens_file).empty()) {
+    try {
+      tokens = std::make_shared<lbsolid::server::auth::TokenTable>(absl::GetFlag(FLAGS_tokens_file));
+    } catch (const std::exception& e) {
+      return fail_start(e.what());
+    }
+  }
+  const auto authenticator = std::make_shared<const lbsolid::server::auth::Authenticator>(
+      tokens, !absl::GetFlag(FLAGS_tls_client_ca).empty());
+  const lbsolid::server::auth::TransportOptions transport{
+      absl::GetFlag(FLAGS_listen), absl::GetFlag(FLAGS_tls_cert), absl::GetFlag(FLAGS_tls_key),
+      absl::GetFlag(FLAGS_tls_client_ca), absl::GetFlag(FLAGS_allow_insecure)};
+  const auto credentials = lbsolid::server::auth::server_credentials(transport, authenticator);
+  if (!credentials.ok()) return fail_start(std::string(credentials.status().message()));
+  if (!lbsolid::server::auth::is_local_address(transport.listen)) {
+    if (transport.tls_cert.empty())
+      spdlog::warn("--allow_insecure: serving plaintext on {}: anyone on the network can read and forge calls",
+                   transport.listen);
+    if (!authenticator->authenticates())
+      spdlog::warn("--allow_insecure: no --tokens_file or --tls_client_ca: anyone who reaches {} acts as admin",
+                   transport.listen);
+  }
 
   raise_descriptor_limit();
   // Signals are taken by one thread with sigwait: block them before any other thread starts.
@@ -138,6 +184,7 @@ int main(int argc, char** argv) {
   sigemptyset(&signals);
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGHUP);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   std::unique_ptr<lbsolid::server::SessionManager> manager;
@@ -158,17 +205,18 @@ int main(int argc, char** argv) {
   if (const int error = lbsolid::server::lower_this_thread_priority(absl::GetFlag(FLAGS_call_nice)); error != 0)
     spdlog::warn("--call_nice: cannot lower the priority of the call threads: {}", std::strerror(error));
 
-  lbsolid::server::SimulationService service(*manager);
+  lbsolid::server::SimulationService service(*manager, authenticator);
   grpc::EnableDefaultHealthCheckService(true);
-  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  if (absl::GetFlag(FLAGS_reflection)) grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(absl::GetFlag(FLAGS_listen), grpc::InsecureServerCredentials(), &port);
+  builder.AddListeningPort(transport.listen, *credentials, &port);
   builder.SetMaxReceiveMessageSize(kMaxMessageBytes);
   builder.SetMaxSendMessageSize(kMaxMessageBytes);
   apply_connection_limits(builder);
   builder.RegisterService(&service);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  // A Unix socket has no port: gRPC reports 1 for it.
   if (!server || port == 0) return fail_start("--listen: cannot serve on " + absl::GetFlag(FLAGS_listen));
   server->GetHealthCheckService()->SetServingStatus(true);
   if (!absl::GetFlag(FLAGS_port_file).empty()) {
@@ -179,14 +227,25 @@ int main(int argc, char** argv) {
     }
   }
   spdlog::info(
-      "lbsolidd {} ({}) serving lbsolid.v1 on {} (port {}), {} workers, data in {}, {} sessions recovered; limits: "
-      "{} MiB, {} particles, {} fluid threads; autosave every {}",
-      LBSOLID_VERSION, LBSOLID_GIT_REVISION, absl::GetFlag(FLAGS_listen), port, limits.workers,
+      "lbsolidd {} ({}) serving lbsolid.v1 on {} (port {}, {}, {}), {} workers, data in {}, {} sessions recovered; "
+      "limits: {} MiB, {} particles, {} fluid threads; autosave every {}",
+      LBSOLID_VERSION, LBSOLID_GIT_REVISION, transport.listen, port,
+      transport.tls_cert.empty() ? "plaintext" : (transport.tls_client_ca.empty() ? "TLS" : "mutual TLS"),
+      tokens ? absl::StrCat(tokens->size(), " tokens") : std::string(authenticator->authenticates() ? "certificates" : "no authentication"),
+      limits.workers,
       absl::GetFlag(FLAGS_data_dir), recovered, limits.max_memory_bytes >> 20, limits.max_particles,
       limits.max_fluid_threads, absl::FormatDuration(autosave));
 
   int signal = 0;
-  sigwait(&signals, &signal);
+  while (sigwait(&signals, &signal) == 0 && signal == SIGHUP) {
+    if (!tokens) {
+      spdlog::info("SIGHUP: no --tokens_file to reload");
+    } else if (const auto status = tokens->reload(); status.ok()) {
+      spdlog::info("SIGHUP: {} tokens loaded from {}", tokens->size(), absl::GetFlag(FLAGS_tokens_file));
+    } else {
+      spdlog::error("SIGHUP: the tokens in force stay: {}", std::string(status.message()));
+    }
+  }
   spdlog::info("{}: no new calls; pausing and saving every session", signal == SIGTERM ? "SIGTERM" : "SIGINT");
   // Runs stop where SIGTERM found them; then no more calls (new ones get UNAVAILABLE; those in
   // flight finish, or are cancelled after the grace period), so that nothing is answered OK after

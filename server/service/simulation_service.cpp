@@ -10,10 +10,13 @@
 #include "absl/strings/str_cat.h"
 #include "server/api/error_summary.h"
 #include "server/api/log_text.h"
+#include "server/auth/caller.h"
 
 namespace lbsolid::server {
 
 namespace {
+
+using auth::caller_of;
 
 using std::chrono::milliseconds;
 
@@ -69,20 +72,38 @@ grpc::Status pump(grpc::ServerContext* context, Channel& channel, grpc::ServerWr
 
 }  // namespace
 
-grpc::Status SimulationService::CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest* request,
-                                              v1::Session* response) {
-  if (!request->has_scenario()) return invalid("scenario: required");
-  auto session = manager_.create(request->scenario(), request->request_id());
-  if (!session.ok()) {
-    spdlog::warn("CreateSession refused: {}", log_text(std::string(session.status().message()), 1000));
-    return to_grpc(session.status());
+template <class SessionId, class Body>
+grpc::Status SimulationService::audited(const grpc::ServerContext& context, const char* method,
+                                        const SessionId& session_id, const Body& body) {
+  const auto caller = caller_of(context, *authenticator_);
+  if (!caller.ok()) return to_grpc(caller.status());
+  const grpc::Status status = body(*caller);
+  if (authenticator_->authenticates()) {
+    const std::string outcome = status.ok() ? "OK" : absl::StatusCodeToString(static_cast<absl::StatusCode>(status.error_code()));
+    spdlog::info("audit: owner {} ({}) {} session {}: {}", caller->owner,
+                 caller->role == auth::Role::kAdmin ? "admin" : "user", method, log_text(session_id(), 100), outcome);
   }
-  *response = (*session)->describe();
-  return grpc::Status::OK;
+  return status;
 }
 
-grpc::Status SimulationService::ValidateScenario(grpc::ServerContext*, const v1::ValidateScenarioRequest* request,
+grpc::Status SimulationService::CreateSession(grpc::ServerContext* context, const v1::CreateSessionRequest* request,
+                                              v1::Session* response) {
+  return audited(*context, "CreateSession", [&] { return response->id(); }, [&](const auth::Identity& caller) -> grpc::Status {
+    if (!request->has_scenario()) return invalid("scenario: required");
+    auto session = manager_.create(request->scenario(), request->request_id(), caller);
+    if (!session.ok()) {
+      spdlog::warn("CreateSession refused: {}", log_text(std::string(session.status().message()), 1000));
+      return to_grpc(session.status());
+    }
+    *response = (*session)->describe();
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status SimulationService::ValidateScenario(grpc::ServerContext* context, const v1::ValidateScenarioRequest* request,
                                                  v1::ValidateScenarioResponse* response) {
+  const auto caller = caller_of(*context, *authenticator_);
+  if (!caller.ok()) return to_grpc(caller.status());
   if (!request->has_scenario()) return invalid("scenario: required");
   const TranslatedScenario checked = manager_.validate(request->scenario());
   // Every problem and warning, as long as the answer stays under the message limit (a request of
@@ -105,84 +126,100 @@ grpc::Status SimulationService::ValidateScenario(grpc::ServerContext*, const v1:
   return grpc::Status::OK;
 }
 
-grpc::Status SimulationService::GetSession(grpc::ServerContext*, const v1::GetSessionRequest* request,
+grpc::Status SimulationService::GetSession(grpc::ServerContext* context, const v1::GetSessionRequest* request,
                                            v1::Session* response) {
+  const auto caller = caller_of(*context, *authenticator_);
+  if (!caller.ok()) return to_grpc(caller.status());
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
-  auto session = manager_.find(request->session_id());
+  auto session = manager_.find(request->session_id(), *caller);
   if (!session.ok()) return to_grpc(session.status());
   *response = (*session)->describe();
   return grpc::Status::OK;
 }
 
-grpc::Status SimulationService::ListSessions(grpc::ServerContext*, const v1::ListSessionsRequest*,
+grpc::Status SimulationService::ListSessions(grpc::ServerContext* context, const v1::ListSessionsRequest*,
                                              v1::ListSessionsResponse* response) {
+  const auto caller = caller_of(*context, *authenticator_);
+  if (!caller.ok()) return to_grpc(caller.status());
   std::vector<v1::Session> sessions;
-  for (const auto& session : manager_.list()) sessions.push_back(session->describe(/*with_scenario=*/false));
+  for (const auto& session : manager_.list(*caller)) sessions.push_back(session->describe(/*with_scenario=*/false));
   std::stable_sort(sessions.begin(), sessions.end(),
                    [](const auto& a, const auto& b) { return a.created_unix_ms() < b.created_unix_ms(); });
   for (auto& session : sessions) *response->add_sessions() = std::move(session);
   return grpc::Status::OK;
 }
 
-grpc::Status SimulationService::DeleteSession(grpc::ServerContext*, const v1::DeleteSessionRequest* request,
+grpc::Status SimulationService::DeleteSession(grpc::ServerContext* context, const v1::DeleteSessionRequest* request,
                                               v1::DeleteSessionResponse*) {
-  if (auto s = require_id(request->session_id()); !s.ok()) return s;
-  return to_grpc(manager_.remove(request->session_id()));
+  return audited(*context, "DeleteSession", [&] { return request->session_id(); }, [&](const auth::Identity& caller) -> grpc::Status {
+    if (auto s = require_id(request->session_id()); !s.ok()) return s;
+    return to_grpc(manager_.remove(request->session_id(), caller));
+  });
 }
 
-grpc::Status SimulationService::Run(grpc::ServerContext*, const v1::RunRequest* request, v1::Session* response) {
-  if (auto s = require_id(request->session_id()); !s.ok()) return s;
-  if (request->steps() < 1) return invalid(absl::StrCat("steps: must be at least 1, got ", request->steps()));
-  if (auto status = manager_.run(request->session_id(), request->steps()); !status.ok()) return to_grpc(status);
-  auto session = manager_.find(request->session_id());
-  if (!session.ok()) return to_grpc(session.status());
-  *response = (*session)->describe();
-  return grpc::Status::OK;
+grpc::Status SimulationService::Run(grpc::ServerContext* context, const v1::RunRequest* request, v1::Session* response) {
+  return audited(*context, "Run", [&] { return request->session_id(); }, [&](const auth::Identity& caller) -> grpc::Status {
+    if (auto s = require_id(request->session_id()); !s.ok()) return s;
+    if (request->steps() < 1) return invalid(absl::StrCat("steps: must be at least 1, got ", request->steps()));
+    if (auto status = manager_.run(request->session_id(), request->steps(), caller); !status.ok()) return to_grpc(status);
+    auto session = manager_.find(request->session_id(), caller);
+    if (!session.ok()) return to_grpc(session.status());
+    *response = (*session)->describe();
+    return grpc::Status::OK;
+  });
 }
 
 grpc::Status SimulationService::Step(grpc::ServerContext* context, const v1::StepRequest* request,
                                      v1::StepResponse* response) {
-  if (auto s = require_id(request->session_id()); !s.ok()) return s;
-  const long most = manager_.limits().max_sync_steps;
-  if (request->steps() < 1 || request->steps() > most)
-    return invalid(absl::StrCat("steps: must lie in [1, ", most, "] for Step (use Run for more), got ", request->steps()));
-  auto session = manager_.find(request->session_id());
-  if (!session.ok()) return to_grpc(session.status());
-  auto result =
-      (*session)->step_now(request->steps(), context->deadline(), [context] { return context->IsCancelled(); });
-  if (!result.ok()) return to_grpc(result.status());
-  manager_.settle(**session);  // it may have failed, or been cancelled meanwhile
-  if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "the call was cancelled");
-  if (!manager_.find(request->session_id()).ok())
-    return grpc::Status(grpc::StatusCode::NOT_FOUND,
-                        absl::StrCat("session_id: session ", request->session_id(), " was deleted during the Step"));
-  response->set_steps_taken(result->steps_taken);
-  response->set_deadline_reached(result->deadline_reached);
-  response->set_interrupted(result->interrupted);
-  *response->mutable_session() = (*session)->describe();
-  return grpc::Status::OK;
+  return audited(*context, "Step", [&] { return request->session_id(); }, [&](const auth::Identity& caller) -> grpc::Status {
+    if (auto s = require_id(request->session_id()); !s.ok()) return s;
+    const long most = manager_.limits().max_sync_steps;
+    if (request->steps() < 1 || request->steps() > most)
+      return invalid(absl::StrCat("steps: must lie in [1, ", most, "] for Step (use Run for more), got ", request->steps()));
+    auto session = manager_.find(request->session_id(), caller);
+    if (!session.ok()) return to_grpc(session.status());
+    auto result =
+        (*session)->step_now(request->steps(), context->deadline(), [context] { return context->IsCancelled(); });
+    if (!result.ok()) return to_grpc(result.status());
+    manager_.settle(**session);  // it may have failed, or been cancelled meanwhile
+    if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "the call was cancelled");
+    if (!manager_.find(request->session_id(), caller).ok())
+      return grpc::Status(grpc::StatusCode::NOT_FOUND,
+                          absl::StrCat("session_id: session ", request->session_id(), " was deleted during the Step"));
+    response->set_steps_taken(result->steps_taken);
+    response->set_deadline_reached(result->deadline_reached);
+    response->set_interrupted(result->interrupted);
+    *response->mutable_session() = (*session)->describe();
+    return grpc::Status::OK;
+  });
 }
 
-grpc::Status SimulationService::Pause(grpc::ServerContext*, const v1::PauseRequest* request, v1::Session* response) {
-  return change_state(request->session_id(), &Session::pause, response);
+grpc::Status SimulationService::Pause(grpc::ServerContext* context, const v1::PauseRequest* request, v1::Session* response) {
+  return audited(*context, "Pause", [&] { return request->session_id(); }, [&](const auth::Identity& caller) -> grpc::Status {
+    return change_state(request->session_id(), caller, &Session::pause, response);
+  });
 }
 
-grpc::Status SimulationService::Resume(grpc::ServerContext*, const v1::ResumeRequest* request, v1::Session* response) {
-  if (auto s = require_id(request->session_id()); !s.ok()) return s;
-  if (auto status = manager_.resume(request->session_id()); !status.ok()) return to_grpc(status);
-  return change_state(request->session_id(), nullptr, response);
+grpc::Status SimulationService::Resume(grpc::ServerContext* context, const v1::ResumeRequest* request, v1::Session* response) {
+  return audited(*context, "Resume", [&] { return request->session_id(); }, [&](const auth::Identity& caller) -> grpc::Status {
+    if (auto s = require_id(request->session_id()); !s.ok()) return s;
+    if (auto status = manager_.resume(request->session_id(), caller); !status.ok()) return to_grpc(status);
+    return change_state(request->session_id(), caller, nullptr, response);
+  });
 }
 
-grpc::Status SimulationService::Cancel(grpc::ServerContext*, const v1::CancelRequest* request, v1::Session* response) {
-  if (auto s = require_id(request->session_id()); !s.ok()) return s;
-  if (auto status = manager_.cancel(request->session_id()); !status.ok()) return to_grpc(status);
-  return change_state(request->session_id(), nullptr, response);
+grpc::Status SimulationService::Cancel(grpc::ServerContext* context, const v1::CancelRequest* request, v1::Session* response) {
+  return audited(*context, "Cancel", [&] { return request->session_id(); }, [&](const auth::Identity& caller) -> grpc::Status {
+    if (auto s = require_id(request->session_id()); !s.ok()) return s;
+    if (auto status = manager_.cancel(request->session_id(), caller); !status.ok()) return to_grpc(status);
+    return change_state(request->session_id(), caller, nullptr, response);
+  });
 }
 
-grpc::Status SimulationService::change_state(const std::string& id, absl::Status (Session::*change)(),
-                                             v1::Session* response) {
+grpc::Status SimulationService::change_state(const std::string& id, const auth::Identity& caller,
+                                             absl::Status (Session::*change)(), v1::Session* response) {
   if (auto s = require_id(id); !s.ok()) return s;
-  auto session = manager_.find(id);
+  auto session = manager_.find(id, caller);
   if (!session.ok()) return to_grpc(session.status());
   if (change)
     if (auto status = ((**session).*change)(); !status.ok()) return to_grpc(status);
@@ -192,13 +229,15 @@ grpc::Status SimulationService::change_state(const std::string& id, absl::Status
 
 grpc::Status SimulationService::WatchSession(grpc::ServerContext* context, const v1::WatchSessionRequest* request,
                                              grpc::ServerWriter<v1::SessionEvent>* writer) {
+  const auto caller = caller_of(*context, *authenticator_);
+  if (!caller.ok()) return to_grpc(caller.status());
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   double interval = request->progress_interval_s();
   if (interval == 0) interval = 1.0;
   if (!(interval >= kMinProgressInterval && interval <= kMaxProgressInterval))
     return invalid(absl::StrCat("progress_interval_s: must lie in [", kMinProgressInterval, ", ", kMaxProgressInterval,
                                 "] seconds, got ", request->progress_interval_s()));
-  auto session = manager_.find(request->session_id());
+  auto session = manager_.find(request->session_id(), *caller);
   if (!session.ok()) return to_grpc(session.status());
   auto channel = (*session)->watch_events(milliseconds(static_cast<long>(interval * 1000)));
   return pump(context, *channel, writer);
@@ -206,11 +245,13 @@ grpc::Status SimulationService::WatchSession(grpc::ServerContext* context, const
 
 grpc::Status SimulationService::WatchProfiles(grpc::ServerContext* context, const v1::WatchProfilesRequest* request,
                                               grpc::ServerWriter<v1::ProfileFrame>* writer) {
+  const auto caller = caller_of(*context, *authenticator_);
+  if (!caller.ok()) return to_grpc(caller.status());
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   if (request->every() < 1) return invalid(absl::StrCat("every: must be at least 1, got ", request->every()));
   const auto delivery = delivery_of(request->delivery());
   if (!delivery.ok()) return to_grpc(delivery.status());
-  auto session = manager_.find(request->session_id());
+  auto session = manager_.find(request->session_id(), *caller);
   if (!session.ok()) return to_grpc(session.status());
   auto channel = (*session)->watch_profiles(request->every(), *delivery);
   if (!channel.ok()) return to_grpc(channel.status());
@@ -221,11 +262,13 @@ grpc::Status SimulationService::WatchProfiles(grpc::ServerContext* context, cons
 
 grpc::Status SimulationService::WatchParticles(grpc::ServerContext* context, const v1::WatchParticlesRequest* request,
                                                grpc::ServerWriter<v1::ParticleFrame>* writer) {
+  const auto caller = caller_of(*context, *authenticator_);
+  if (!caller.ok()) return to_grpc(caller.status());
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   if (request->every() < 1) return invalid(absl::StrCat("every: must be at least 1, got ", request->every()));
   const auto delivery = delivery_of(request->delivery());
   if (!delivery.ok()) return to_grpc(delivery.status());
-  auto session = manager_.find(request->session_id());
+  auto session = manager_.find(request->session_id(), *caller);
   if (!session.ok()) return to_grpc(session.status());
   const std::vector<std::string> bodies(request->bodies().begin(), request->bodies().end());
   auto channel = (*session)->watch_particles(request->every(), *delivery, bodies);
@@ -237,6 +280,8 @@ grpc::Status SimulationService::WatchParticles(grpc::ServerContext* context, con
 
 grpc::Status SimulationService::GetField(grpc::ServerContext* context, const v1::GetFieldRequest* request,
                                          grpc::ServerWriter<v1::FieldMessage>* writer) {
+  const auto caller = caller_of(*context, *authenticator_);
+  if (!caller.ok()) return to_grpc(caller.status());
   static_assert(std::endian::native == std::endian::little, "field chunks are sent as the machine stores them");
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   long chunk = request->chunk_bytes() == 0 ? kDefaultChunkBytes : request->chunk_bytes();
@@ -248,7 +293,7 @@ grpc::Status SimulationService::GetField(grpc::ServerContext* context, const v1:
   for (std::size_t k = 0; k < names.size(); ++k)
     if (names[k] != "density" && names[k] != "velocity")
       return invalid(absl::StrCat("fields[", k, "]: unknown field \"", names[k], "\"; use density or velocity"));
-  auto session = manager_.find(request->session_id());
+  auto session = manager_.find(request->session_id(), *caller);
   if (!session.ok()) return to_grpc(session.status());
   auto snapshot = (*session)->fields();
   if (!snapshot.ok()) return to_grpc(snapshot.status());
@@ -283,28 +328,34 @@ grpc::Status SimulationService::GetField(grpc::ServerContext* context, const v1:
   return grpc::Status::OK;
 }
 
-grpc::Status SimulationService::Checkpoint(grpc::ServerContext*, const v1::CheckpointRequest* request,
+grpc::Status SimulationService::Checkpoint(grpc::ServerContext* context, const v1::CheckpointRequest* request,
                                            v1::CheckpointResponse* response) {
-  if (auto s = require_id(request->session_id()); !s.ok()) return s;
-  auto info = manager_.checkpoint(request->session_id());
-  if (!info.ok()) return to_grpc(info.status());
-  response->set_checkpoint_id(info->checkpoint_id);
-  response->set_path(info->path);
-  response->set_step(info->step);
-  response->set_bytes(info->bytes);
-  return grpc::Status::OK;
+  return audited(*context, "Checkpoint", [&] { return request->session_id(); }, [&](const auth::Identity& caller) -> grpc::Status {
+    if (auto s = require_id(request->session_id()); !s.ok()) return s;
+    auto info = manager_.checkpoint(request->session_id(), caller);
+    if (!info.ok()) return to_grpc(info.status());
+    response->set_checkpoint_id(info->checkpoint_id);
+    response->set_path(info->path);
+    response->set_step(info->step);
+    response->set_bytes(info->bytes);
+    return grpc::Status::OK;
+  });
 }
 
-grpc::Status SimulationService::Restore(grpc::ServerContext*, const v1::RestoreRequest* request, v1::Session* response) {
-  if (request->checkpoint_id().empty()) return invalid("checkpoint_id: required");
-  auto session = manager_.restore(request->checkpoint_id(), request->request_id());
-  if (!session.ok()) return to_grpc(session.status());
-  *response = (*session)->describe();
-  return grpc::Status::OK;
+grpc::Status SimulationService::Restore(grpc::ServerContext* context, const v1::RestoreRequest* request, v1::Session* response) {
+  return audited(*context, "Restore", [&] { return response->id(); }, [&](const auth::Identity& caller) -> grpc::Status {
+    if (request->checkpoint_id().empty()) return invalid("checkpoint_id: required");
+    auto session = manager_.restore(request->checkpoint_id(), request->request_id(), caller);
+    if (!session.ok()) return to_grpc(session.status());
+    *response = (*session)->describe();
+    return grpc::Status::OK;
+  });
 }
 
-grpc::Status SimulationService::GetServerInfo(grpc::ServerContext*, const v1::GetServerInfoRequest*,
+grpc::Status SimulationService::GetServerInfo(grpc::ServerContext* context, const v1::GetServerInfoRequest*,
                                               v1::ServerInfo* response) {
+  const auto caller = caller_of(*context, *authenticator_);
+  if (!caller.ok()) return to_grpc(caller.status());
   const auto& limits = manager_.limits();
   response->set_version(manager_.writer().version);
   response->set_git_revision(manager_.writer().git_revision);
@@ -319,7 +370,7 @@ grpc::Status SimulationService::GetServerInfo(grpc::ServerContext*, const v1::Ge
   response->set_max_cells(limits.max_cells);
   response->set_max_sync_steps(limits.max_sync_steps);
   response->set_max_message_bytes(4L << 20);
-  response->set_sessions(manager_.count());
+  response->set_sessions(static_cast<long>(manager_.list(*caller).size()));  // the caller's
   return grpc::Status::OK;
 }
 

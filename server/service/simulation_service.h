@@ -5,13 +5,15 @@
 #include <memory>
 
 #include "lbsolid/v1/simulation.grpc.pb.h"
+#include "server/auth/authenticator.h"
 #include "server/session/session_manager.h"
 
 namespace lbsolid::server {
 
 class SimulationService final : public v1::Simulation::Service {
  public:
-  explicit SimulationService(SessionManager& manager) : manager_(manager) {}
+  SimulationService(SessionManager& manager, std::shared_ptr<const auth::Authenticator> authenticator)
+      : manager_(manager), authenticator_(std::move(authenticator)) {}
 
   grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::Session*) override;
   grpc::Status ValidateScenario(grpc::ServerContext*, const v1::ValidateScenarioRequest*,
@@ -37,9 +39,16 @@ class SimulationService final : public v1::Simulation::Service {
 
  private:
   // Applies `change` (if any) to the session and answers with its description.
-  grpc::Status change_state(const std::string& id, absl::Status (Session::*change)(), v1::Session* response);
+  grpc::Status change_state(const std::string& id, const auth::Identity& caller, absl::Status (Session::*change)(),
+                            v1::Session* response);
+  // For the methods that change state: authenticates the call, runs `body` as its caller and, on a
+  // daemon that authenticates callers, logs one audit line (owner, method, session, outcome).
+  template <class SessionId, class Body>
+  grpc::Status audited(const grpc::ServerContext& context, const char* method, const SessionId& session_id,
+                       const Body& body);
 
   SessionManager& manager_;
+  const std::shared_ptr<const auth::Authenticator> authenticator_;
 };
 
 }  // namespace lbsolid::server

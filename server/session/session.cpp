@@ -53,6 +53,7 @@ bool is_final(v1::SessionState state) {
 Session::Session(SessionSetup setup, std::shared_ptr<parallel::ThreadPool> fluid_pool)
     : id_(std::move(setup.id)),
       request_id_(std::move(setup.request_id)),
+      owner_(std::move(setup.owner)),
       scenario_(std::move(setup.scenario)),
       created_unix_ms_(setup.created_unix_ms),
       warnings_(setup.translated.warnings),
@@ -83,6 +84,7 @@ v1::Session Session::describe(bool with_scenario) const {
   s.set_id(id_);
   s.set_name(scenario_.name());
   s.set_request_id(request_id_);
+  s.set_owner(owner_);
   if (with_scenario) *s.mutable_scenario() = scenario_;
   for (const auto& stage : sim_->stages()) s.add_stages(stage);  // fixed at build: no lock needed
   s.set_cells(cells());
@@ -577,6 +579,7 @@ storage::CheckpointContents Session::checkpoint_contents() const {
   c.session_id = id_;
   c.session_name = scenario_.name();
   c.request_id = request_id_;
+  c.owner = owner_;
   c.state = sim_->save_state();
   std::lock_guard lock(mutex_);
   c.target_step = target_;

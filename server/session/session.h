@@ -35,6 +35,7 @@ struct SessionSetup {
   v1::Scenario scenario;
   TranslatedScenario translated;  // must be ok()
   long long created_unix_ms = 0;
+  std::string owner;  // the identity it belongs to (server/auth/identity.h)
 };
 
 struct FieldData {
@@ -63,6 +64,7 @@ class Session {
 
   const std::string& id() const { return id_; }
   const std::string& request_id() const { return request_id_; }
+  const std::string& owner() const { return owner_; }
   const v1::Scenario& scenario() const { return scenario_; }
   long cells() const;
   // What GetSession answers; without the scenario (ListSessions) when with_scenario is false.
@@ -158,6 +160,7 @@ class Session {
 
   const std::string id_;
   const std::string request_id_;
+  const std::string owner_;
   const v1::Scenario scenario_;
   const long long created_unix_ms_;
   const std::vector<std::string> warnings_;

@@ -44,6 +44,10 @@ absl::Status no_session(const std::string& id) {
   return absl::NotFoundError(absl::StrCat("session_id: no session \"", id.substr(0, 100), "\""));
 }
 
+absl::Status no_checkpoint(const std::string& id) {
+  return absl::NotFoundError(absl::StrCat("checkpoint_id: no checkpoint \"", id, "\""));
+}
+
 }  // namespace
 
 SessionManager::SessionManager(std::string data_dir, ManagerLimits limits, storage::WriterInfo writer)
@@ -62,13 +66,13 @@ SessionManager::SessionManager(std::string data_dir, ManagerLimits limits, stora
 
 SessionManager::~SessionManager() {
   stop_autosave();
-  for (const auto& session : list()) session->close();
+  for (const auto& session : all_sessions()) session->close();
   stop_workers();
 }
 
 // ---- creation ------------------------------------------------------------------------------
 
-absl::Status SessionManager::admit_footprint_locked(const Footprint& f) const {
+absl::Status SessionManager::admit_footprint_locked(const Footprint& f, const std::string& owner) const {
   if (f.cells > limits_.max_cells)
     return absl::ResourceExhaustedError(absl::StrCat("scenario.domain: ", f.cells, " fluid nodes exceed this daemon's limit of ",
                                                      limits_.max_cells, " per session (--max_cells)"));
@@ -82,18 +86,25 @@ absl::Status SessionManager::admit_footprint_locked(const Footprint& f) const {
     return absl::ResourceExhaustedError(absl::StrCat("scenario.bodies: ", f.particles, " particles; the daemon has ",
                                                      std::max(0LL, limits_.max_particles - committed_.particles),
                                                      " of its ", limits_.max_particles, " left (--max_particles)"));
+  const auto held = committed_by_owner_.find(owner);
+  const long long owner_bytes = held == committed_by_owner_.end() ? 0 : held->second.bytes();
+  if (owner_bytes + f.bytes() > limits_.per_owner.memory_bytes)
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "quota: scenario needs about ", f.bytes() >> 20, " MiB; owner ", owner, " holds ", owner_bytes >> 20,
+        " MiB of its quota of ", limits_.per_owner.memory_bytes >> 20, " MiB (--owner_max_memory)"));
   return absl::OkStatus();
 }
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::reserve_locked(std::unique_lock<std::mutex>& lock,
                                                                         const v1::Scenario& scenario,
-                                                                        const std::string& request_id,
+                                                                        const RequestKey& request,
                                                                         const Footprint& footprint) {
   if (!accepting_) return absl::UnavailableError("the daemon is shutting down; retry on its next start");
+  const auto& [owner, request_id] = request;
   if (!request_id.empty()) {
     // A retry of a creation still in progress waits for it, then finds its session.
-    creation_done_.wait(lock, [&] { return !requests_in_progress_.contains(request_id); });
-    const auto it = by_request_id_.find(request_id);
+    creation_done_.wait(lock, [&] { return !requests_in_progress_.contains(request); });
+    const auto it = by_request_id_.find(request);
     if (it != by_request_id_.end()) {
       const auto& session = sessions_.at(it->second);
       if (session->scenario().SerializeAsString() != scenario.SerializeAsString())
@@ -105,11 +116,23 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::reserve_locked(std::uni
   if (static_cast<int>(sessions_.size()) + creations_in_progress_ >= limits_.max_sessions)
     return absl::ResourceExhaustedError(absl::StrCat("sessions: the daemon holds its limit of ", limits_.max_sessions,
                                                      " sessions (--max_sessions); delete one or retry later"));
-  if (auto admitted = admit_footprint_locked(footprint); !admitted.ok()) return admitted;
+  if (held_by_owner_[owner] >= limits_.per_owner.sessions)
+    return absl::ResourceExhaustedError(absl::StrCat("quota: owner ", owner, " holds its quota of ",
+                                                     limits_.per_owner.sessions,
+                                                     " sessions (--owner_max_sessions); delete one first"));
+  if (auto admitted = admit_footprint_locked(footprint, owner); !admitted.ok()) return admitted;
   committed_ += footprint;
+  committed_by_owner_[owner] += footprint;
+  ++held_by_owner_[owner];
   ++creations_in_progress_;
-  if (!request_id.empty()) requests_in_progress_.insert(request_id);
+  if (!request_id.empty()) requests_in_progress_.insert(request);
   return nullptr;
+}
+
+void SessionManager::register_locked(const std::shared_ptr<Session>& session, const Footprint& footprint) {
+  sessions_[session->id()] = session;
+  footprints_[session->id()] = footprint;
+  if (!session->request_id().empty()) by_request_id_[{session->owner(), session->request_id()}] = session->id();
 }
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::build(SessionSetup setup) const {
@@ -124,22 +147,24 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::build(SessionSetup setu
 }
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::add(const v1::Scenario& scenario,
-                                                             const std::string& request_id, const Prepare& prepare) {
+                                                             const std::string& request_id, const std::string& owner,
+                                                             const Prepare& prepare) {
   if (auto problem = oversize_problem(scenario); !problem.empty()) return absl::InvalidArgumentError(problem);
   if (request_id.size() > kMaxRequestIdBytes)
     return absl::InvalidArgumentError(absl::StrCat("request_id: ", request_id.size(), " bytes, more than ",
                                                    kMaxRequestIdBytes));
   const Footprint footprint = estimate_footprint(scenario);
+  const RequestKey request{owner, request_id};
   {
     std::unique_lock lock(mutex_);
-    auto reserved = reserve_locked(lock, scenario, request_id, footprint);
+    auto reserved = reserve_locked(lock, scenario, request, footprint);
     if (!reserved.ok() || *reserved) return reserved;
   }
   absl::StatusOr<std::shared_ptr<Session>> session = absl::InternalError("not built");
   try {
     // Translated and validated here, at the caller's priority; built (allocated, initialised)
     // on the builder.
-    SessionSetup setup{new_session_id(), request_id, scenario, translate_scenario(scenario), unix_ms_now()};
+    SessionSetup setup{new_session_id(), request_id, scenario, translate_scenario(scenario), unix_ms_now(), owner};
     session = builder_.run([&] { return build(std::move(setup)); });
     if (session.ok())
       if (auto prepared = prepare(**session); !prepared.ok()) session = prepared;
@@ -151,13 +176,13 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::add(const v1::Scenario&
   {
     std::lock_guard lock(mutex_);
     --creations_in_progress_;
-    requests_in_progress_.erase(request_id);
+    requests_in_progress_.erase(request);
     if (session.ok()) {
-      sessions_[(*session)->id()] = *session;
-      footprints_[(*session)->id()] = footprint;
-      if (!request_id.empty()) by_request_id_[request_id] = (*session)->id();
+      register_locked(*session, footprint);
     } else {
       committed_ -= footprint;
+      committed_by_owner_[owner] -= footprint;
+      --held_by_owner_[owner];
     }
   }
   creation_done_.notify_all();
@@ -175,50 +200,57 @@ TranslatedScenario SessionManager::validate(const v1::Scenario& scenario) const 
 }
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::create(const v1::Scenario& scenario,
-                                                                const std::string& request_id) {
-  auto session = add(scenario, request_id, [](Session&) { return absl::OkStatus(); });
+                                                                const std::string& request_id,
+                                                                const auth::Identity& caller) {
+  auto session = add(scenario, request_id, caller.owner, [](Session&) { return absl::OkStatus(); });
   if (!session.ok()) return session;
   const auto described = (*session)->describe();
-  spdlog::info("session {}: created {} ({} fluid nodes, {} particles, stages {})", (*session)->id(),
-               log_text(scenario.name()), (*session)->cells(), described.particles(), absl::StrJoin(described.stages(), ","));
+  spdlog::info("session {}: created {} for {} ({} fluid nodes, {} particles, stages {})", (*session)->id(),
+               log_text(scenario.name()), caller.owner, (*session)->cells(), described.particles(), absl::StrJoin(described.stages(), ","));
   for (const auto& warning : described.warnings()) spdlog::warn("session {}: {}", (*session)->id(), log_text(warning, 500));
   return session;
 }
 
-absl::StatusOr<std::shared_ptr<Session>> SessionManager::find(const std::string& id) const {
+absl::StatusOr<std::shared_ptr<Session>> SessionManager::find(const std::string& id,
+                                                              const auth::Identity& caller) const {
   std::lock_guard lock(mutex_);
   const auto it = sessions_.find(id);
-  if (it == sessions_.end()) return no_session(id);
+  if (it == sessions_.end() || !caller.may_act_on(it->second->owner())) return no_session(id);
   return it->second;
 }
 
-std::vector<std::shared_ptr<Session>> SessionManager::list() const {
+std::vector<std::shared_ptr<Session>> SessionManager::list(const auth::Identity& caller) const {
   std::lock_guard lock(mutex_);
   std::vector<std::shared_ptr<Session>> out;
-  for (const auto& [id, session] : sessions_) out.push_back(session);
+  for (const auto& [id, session] : sessions_)
+    if (caller.may_act_on(session->owner())) out.push_back(session);
   return out;
 }
+
+std::vector<std::shared_ptr<Session>> SessionManager::all_sessions() const { return list(auth::local_admin()); }
 
 int SessionManager::count() const {
   std::lock_guard lock(mutex_);
   return static_cast<int>(sessions_.size());
 }
 
-absl::Status SessionManager::remove(const std::string& id) {
+absl::Status SessionManager::remove(const std::string& id, const auth::Identity& caller) {
   std::shared_ptr<Session> session;
   {
     std::lock_guard lock(mutex_);
     const auto it = sessions_.find(id);
-    if (it == sessions_.end()) return no_session(id);
+    if (it == sessions_.end() || !caller.may_act_on(it->second->owner())) return no_session(id);
     session = it->second;
     sessions_.erase(it);
-    if (!session->request_id().empty()) by_request_id_.erase(session->request_id());
+    if (!session->request_id().empty()) by_request_id_.erase({session->owner(), session->request_id()});
   }
   session->close();
   {
     // Its memory is free once the last call holding it lets go; close() ended the streams.
     std::lock_guard lock(mutex_);
     committed_ -= footprints_.at(id);
+    committed_by_owner_[session->owner()] -= footprints_.at(id);
+    --held_by_owner_[session->owner()];
     footprints_.erase(id);
   }
   store_.forget(*session);
@@ -228,24 +260,36 @@ absl::Status SessionManager::remove(const std::string& id) {
 
 // ---- running -------------------------------------------------------------------------------
 
-absl::Status SessionManager::run(const std::string& id, long steps) {
-  auto session = find(id);
+absl::Status SessionManager::start_within_quota(Session& session, const std::function<absl::Status()>& start) {
+  std::lock_guard lock(start_mutex_);
+  int running = 0;
+  for (const auto& other : list({session.owner(), auth::Role::kUser}))
+    if (other.get() != &session && other->state() == v1::SESSION_STATE_RUNNING) ++running;
+  if (running >= limits_.per_owner.running)
+    return absl::ResourceExhaustedError(absl::StrCat("quota: owner ", session.owner(), " runs its quota of ",
+                                                     limits_.per_owner.running,
+                                                     " sessions at once (--owner_max_running); pause one or wait"));
+  return start();
+}
+
+absl::Status SessionManager::run(const std::string& id, long steps, const auth::Identity& caller) {
+  auto session = find(id, caller);
   if (!session.ok()) return session.status();
-  if (auto status = (*session)->run(steps); !status.ok()) return status;
+  if (auto status = start_within_quota(**session, [&] { return (*session)->run(steps); }); !status.ok()) return status;
   schedule(*session);
   return absl::OkStatus();
 }
 
-absl::Status SessionManager::resume(const std::string& id) {
-  auto session = find(id);
+absl::Status SessionManager::resume(const std::string& id, const auth::Identity& caller) {
+  auto session = find(id, caller);
   if (!session.ok()) return session.status();
-  if (auto status = (*session)->resume(); !status.ok()) return status;
+  if (auto status = start_within_quota(**session, [&] { return (*session)->resume(); }); !status.ok()) return status;
   schedule(*session);
   return absl::OkStatus();
 }
 
-absl::Status SessionManager::cancel(const std::string& id) {
-  auto session = find(id);
+absl::Status SessionManager::cancel(const std::string& id, const auth::Identity& caller) {
+  auto session = find(id, caller);
   if (!session.ok()) return session.status();
   if (auto status = (*session)->cancel(); !status.ok()) return status;
   settle(**session);
@@ -259,8 +303,25 @@ void SessionManager::settle(const Session& session) {
 void SessionManager::schedule(const std::shared_ptr<Session>& session) {
   if (!session->claim_schedule()) return;
   std::lock_guard lock(queue_mutex_);
-  queue_.push_back(session);
+  enqueue_locked(session);
   queue_ready_.notify_one();
+}
+
+void SessionManager::enqueue_locked(const std::shared_ptr<Session>& session) {
+  auto& queue = queues_[session->owner()];
+  if (queue.empty()) owner_turns_.push_back(session->owner());
+  queue.push_back(session);
+}
+
+std::shared_ptr<Session> SessionManager::dequeue_locked() {
+  const std::string owner = owner_turns_.front();
+  owner_turns_.pop_front();
+  auto& queue = queues_.at(owner);
+  auto session = queue.front();
+  queue.pop_front();
+  if (queue.empty()) queues_.erase(owner);
+  else owner_turns_.push_back(owner);  // its next session waits for the other owners' turns
+  return session;
 }
 
 void SessionManager::work() {
@@ -268,10 +329,9 @@ void SessionManager::work() {
     std::shared_ptr<Session> session;
     {
       std::unique_lock lock(queue_mutex_);
-      queue_ready_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+      queue_ready_.wait(lock, [&] { return stopping_ || !owner_turns_.empty(); });
       if (stopping_) return;
-      session = queue_.front();
-      queue_.pop_front();
+      session = dequeue_locked();
     }
     session->advance(kSlice);
     const bool more = session->finish_slice();
@@ -279,7 +339,7 @@ void SessionManager::work() {
     if (session->progress_note_due()) store_.note_progress(*session, session->describe().step());
     if (more) {
       std::lock_guard lock(queue_mutex_);
-      queue_.push_back(session);  // to the back: round robin between running sessions
+      enqueue_locked(session);  // to the back: round robin between owners, then their sessions
       queue_ready_.notify_one();
     }
   }
@@ -289,7 +349,8 @@ void SessionManager::stop_workers() {
   {
     std::lock_guard lock(queue_mutex_);
     stopping_ = true;
-    queue_.clear();
+    queues_.clear();
+    owner_turns_.clear();
     queue_ready_.notify_all();
   }
   for (auto& worker : workers_)
@@ -299,21 +360,25 @@ void SessionManager::stop_workers() {
 
 // ---- checkpoints ---------------------------------------------------------------------------
 
-absl::StatusOr<CheckpointInfo> SessionManager::checkpoint(const std::string& id) {
-  auto session = find(id);
+absl::StatusOr<CheckpointInfo> SessionManager::checkpoint(const std::string& id, const auth::Identity& caller) {
+  auto session = find(id, caller);
   if (!session.ok()) return session.status();
   return store_.checkpoint(**session);
 }
 
 absl::StatusOr<std::shared_ptr<Session>> SessionManager::restore(const std::string& checkpoint_id,
-                                                                 const std::string& request_id) {
+                                                                 const std::string& request_id,
+                                                                 const auth::Identity& caller) {
   auto contents = store_.read_checkpoint(checkpoint_id);
   if (!contents.ok()) return contents.status();
+  if (const auto problem = auth::owner_name_problem(contents->owner); !problem.empty())
+    return absl::DataLossError(absl::StrCat("checkpoint_id: its owner ", problem));
+  if (!caller.may_act_on(contents->owner)) return no_checkpoint(checkpoint_id);
   v1::Scenario scenario;
   std::string error;
   if (!parse_scenario_text(contents->scenario_text, &scenario, &error))
     return absl::DataLossError(absl::StrCat("checkpoint_id: its scenario does not parse: ", error));
-  auto session = add(scenario, request_id, [&](Session& fresh) {
+  auto session = add(scenario, request_id, contents->owner, [&](Session& fresh) {
     try {
       fresh.restore(contents->state, contents->target_step, v1::SESSION_STATE_PAUSED);
       return absl::OkStatus();
@@ -354,7 +419,7 @@ void SessionManager::autosave_loop() {
     const bool full_pass = std::chrono::steady_clock::now() >= next_pass;
     if (full_pass) next_pass = std::chrono::steady_clock::now() + limits_.autosave_interval;
     lock.unlock();
-    const auto sessions = list();
+    const auto sessions = all_sessions();
     std::erase_if(saved_, [&](const auto& entry) {
       return std::none_of(sessions.begin(), sessions.end(), [&](const auto& s) { return s->id() == entry.first; });
     });
@@ -374,7 +439,7 @@ void SessionManager::stop_autosave() {
 }
 
 void SessionManager::pause_all() {
-  for (const auto& session : list())
+  for (const auto& session : all_sessions())
     if (session->state() == v1::SESSION_STATE_RUNNING) (void)session->pause();  // it may have just ended
 }
 
@@ -386,7 +451,7 @@ std::vector<std::string> SessionManager::shutdown() {
   stop_autosave();
   pause_all();  // again: calls in flight at SIGTERM may have resumed some
   stop_workers();
-  const auto sessions = list();
+  const auto sessions = all_sessions();
   std::vector<std::string> unsaved;
   for (const auto& session : sessions) {
     if (is_final(session->state())) {
@@ -414,7 +479,12 @@ int SessionManager::recover() {
                     log_text(error, 500));
       continue;
     }
-    auto session = build({contents.session_id, contents.request_id, scenario, translate_scenario(scenario), unix_ms_now()});
+    if (const auto problem = auth::owner_name_problem(contents.owner); !problem.empty()) {
+      spdlog::error("session {}: not recovered: its owner {}", contents.session_id, problem);
+      continue;
+    }
+    auto session = build(
+        {contents.session_id, contents.request_id, scenario, translate_scenario(scenario), unix_ms_now(), contents.owner});
     if (!session.ok()) {
       spdlog::error("session {}: not recovered: {}", contents.session_id, log_text(std::string(session.status().message()), 1000));
       continue;
@@ -430,9 +500,9 @@ int SessionManager::recover() {
       std::lock_guard lock(mutex_);
       const Footprint footprint = estimate_footprint(scenario);  // counted even past the limits
       committed_ += footprint;
-      footprints_[contents.session_id] = footprint;
-      sessions_[contents.session_id] = *session;
-      if (!contents.request_id.empty()) by_request_id_[contents.request_id] = contents.session_id;
+      committed_by_owner_[contents.owner] += footprint;
+      ++held_by_owner_[contents.owner];
+      register_locked(*session, footprint);
     }
     if (saved.steps_lost > 0)
       spdlog::warn("session {}: recovered at step {}; {} steps run after its last save were lost", contents.session_id,

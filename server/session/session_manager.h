@@ -1,8 +1,14 @@
 #pragma once
 // All sessions of the daemon: creation (idempotent on a request id), lookup, deletion, the
-// bounded worker pool that advances running sessions slice by slice (round robin, so one long run
-// cannot starve the others), checkpoints, periodic saves, and the shutdown that saves every
-// session so the next start brings them back under their old ids (session_store.h: the files).
+// bounded worker pool that advances running sessions slice by slice (round robin between owners,
+// then between each owner's sessions, so neither one long run nor one owner's many runs can starve
+// the others), checkpoints, periodic saves, and the shutdown that saves every session so the next
+// start brings them back under their old ids (session_store.h: the files).
+//
+// Every session belongs to the identity that created it (auth/identity.h). Each call names its
+// caller: a user reaches only its own sessions and checkpoints (another's answer NOT_FOUND, exactly
+// as if they did not exist), an admin reaches all. Request ids are per owner. Per-owner quotas
+// (OwnerLimits) bound what one owner may hold and run.
 //
 // No request holds the manager-wide lock while it does real work: scenarios are translated,
 // validated and built outside it (a request id being created is reserved meanwhile).
@@ -20,12 +26,20 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "server/auth/identity.h"
 #include "server/session/footprint.h"
 #include "server/session/serial_executor.h"
 #include "server/session/session.h"
 #include "server/session/session_store.h"
 
 namespace lbsolid::server {
+
+// What one owner may hold at once; each defaults to the daemon's own limit (no quota).
+struct OwnerLimits {
+  int sessions = 64;
+  long long memory_bytes = 8LL << 30;  // by the footprint estimate, as --max_memory
+  int running = 64;                    // sessions RUNNING at once (Run and Resume are refused past it)
+};
 
 struct ManagerLimits {
   int workers = 1;
@@ -40,6 +54,7 @@ struct ManagerLimits {
   int max_fluid_threads = 2;
   // Wall time between automatic saves of every session that changed; zero turns them off.
   std::chrono::milliseconds autosave_interval = std::chrono::minutes(2);
+  OwnerLimits per_owner;
 };
 
 class SessionManager {
@@ -52,24 +67,32 @@ class SessionManager {
   const ManagerLimits& limits() const { return limits_; }
   const storage::WriterInfo& writer() const { return store_.writer(); }
 
-  absl::StatusOr<std::shared_ptr<Session>> create(const v1::Scenario& scenario, const std::string& request_id);
+  // The new session belongs to `caller`; a request id already used by the same owner answers
+  // with that owner's earlier session.
+  absl::StatusOr<std::shared_ptr<Session>> create(const v1::Scenario& scenario, const std::string& request_id,
+                                                  const auth::Identity& caller);
   // Every problem create() would find in the scenario itself (its size, its translation and
   // validation; not the daemon's limits), and its warnings. Builds nothing.
   TranslatedScenario validate(const v1::Scenario& scenario) const;
-  absl::StatusOr<std::shared_ptr<Session>> find(const std::string& id) const;
-  std::vector<std::shared_ptr<Session>> list() const;
+  // NOT_FOUND unless the session exists and the caller may act on it.
+  absl::StatusOr<std::shared_ptr<Session>> find(const std::string& id, const auth::Identity& caller) const;
+  // The caller's sessions; an admin's: every owner's.
+  std::vector<std::shared_ptr<Session>> list(const auth::Identity& caller) const;
   int count() const;
-  absl::Status remove(const std::string& id);
+  absl::Status remove(const std::string& id, const auth::Identity& caller);
 
-  absl::Status run(const std::string& id, long steps);
-  absl::Status resume(const std::string& id);
-  absl::Status cancel(const std::string& id);
+  // Run and Resume are refused (RESOURCE_EXHAUSTED) past the owner's quota of running sessions.
+  absl::Status run(const std::string& id, long steps, const auth::Identity& caller);
+  absl::Status resume(const std::string& id, const auth::Identity& caller);
+  absl::Status cancel(const std::string& id, const auth::Identity& caller);
   // After a state change made outside the manager (a Step call): a session that ended FAILED or
   // CANCELLED loses its saved state at once, so that a crash cannot bring it back runnable.
   void settle(const Session& session);
 
-  absl::StatusOr<CheckpointInfo> checkpoint(const std::string& id);
-  absl::StatusOr<std::shared_ptr<Session>> restore(const std::string& checkpoint_id, const std::string& request_id);
+  absl::StatusOr<CheckpointInfo> checkpoint(const std::string& id, const auth::Identity& caller);
+  // A checkpoint of a session the caller may act on; the new session belongs to the checkpoint's owner.
+  absl::StatusOr<std::shared_ptr<Session>> restore(const std::string& checkpoint_id, const std::string& request_id,
+                                                   const auth::Identity& caller);
 
   // Brings back the sessions an earlier daemon saved. Returns how many.
   int recover();
@@ -81,18 +104,28 @@ class SessionManager {
 
  private:
   using Prepare = std::function<absl::Status(Session&)>;
-  // Admits (request id, limits), builds and prepares (e.g. restores a state) a session outside
-  // the lock, then registers it.
+  using RequestKey = std::pair<std::string, std::string>;  // owner, request id
+  // Admits (request id, limits, the owner's quotas), builds and prepares (e.g. restores a state) a
+  // session of `owner` outside the lock, then registers it.
   absl::StatusOr<std::shared_ptr<Session>> add(const v1::Scenario& scenario, const std::string& request_id,
-                                               const Prepare& prepare);
+                                               const std::string& owner, const Prepare& prepare);
   // Under mutex_: an earlier session of this request id (returned), or a reservation of a place
   // and of the footprint's memory, particles and threads.
   absl::StatusOr<std::shared_ptr<Session>> reserve_locked(std::unique_lock<std::mutex>& lock,
-                                                          const v1::Scenario& scenario, const std::string& request_id,
+                                                          const v1::Scenario& scenario, const RequestKey& request,
                                                           const Footprint& footprint);
-  absl::Status admit_footprint_locked(const Footprint& footprint) const;
+  absl::Status admit_footprint_locked(const Footprint& footprint, const std::string& owner) const;
+  // Registers a built session with its footprint (under mutex_).
+  void register_locked(const std::shared_ptr<Session>& session, const Footprint& footprint);
+  // Every session, whoever owns it: for the autosave, the shutdown and the destructor.
+  std::vector<std::shared_ptr<Session>> all_sessions() const;
+  // Starts a session's run (Run or Resume) within its owner's quota of running sessions.
+  absl::Status start_within_quota(Session& session, const std::function<absl::Status()>& start);
   absl::StatusOr<std::shared_ptr<Session>> build(SessionSetup setup) const;
   void schedule(const std::shared_ptr<Session>& session);
+  // Under queue_mutex_: to the back of its owner's queue; the next session of the owner whose turn it is.
+  void enqueue_locked(const std::shared_ptr<Session>& session);
+  std::shared_ptr<Session> dequeue_locked();
   void work();
   void stop_workers();
   void autosave_loop();
@@ -107,16 +140,25 @@ class SessionManager {
   mutable std::mutex mutex_;
   std::condition_variable creation_done_;
   std::map<std::string, std::shared_ptr<Session>> sessions_;
-  std::map<std::string, std::string> by_request_id_;
-  std::set<std::string> requests_in_progress_;
+  std::map<RequestKey, std::string> by_request_id_;
+  std::set<RequestKey> requests_in_progress_;
   int creations_in_progress_ = 0;
   std::map<std::string, Footprint> footprints_;  // of registered sessions
   Footprint committed_;  // of registered sessions and creations in progress
+  // By owner: sessions registered or being created, and their footprints.
+  std::map<std::string, int> held_by_owner_;
+  std::map<std::string, Footprint> committed_by_owner_;
   bool accepting_ = true;
+  // Held while a Run or Resume counts its owner's running sessions and starts: two cannot both
+  // take the last place.
+  std::mutex start_mutex_;
 
+  // Sessions waiting for a worker, by owner; owners take turns (owner_turns_ holds each owner with
+  // a waiting session once).
   std::mutex queue_mutex_;
   std::condition_variable queue_ready_;
-  std::deque<std::shared_ptr<Session>> queue_;
+  std::map<std::string, std::deque<std::shared_ptr<Session>>> queues_;
+  std::deque<std::string> owner_turns_;
   bool stopping_ = false;
   std::vector<std::thread> workers_;
 

@@ -60,6 +60,7 @@ std::string root_checksum(int format_version, const WriterInfo& writer, const Ch
   record.text("session_id", contents.session_id);
   record.text("session_name", contents.session_name);
   record.text("request_id", contents.request_id);
+  if (format_version >= 3) record.text("owner", contents.owner);
   record.number("done", contents.done ? 1 : 0);
   record.number("started", contents.started ? 1 : 0);
   record.number("target_step", contents.target_step);

@@ -11,13 +11,15 @@
 namespace lbsolid::server::storage {
 
 // 2: every dataset and the root carry a SHA-256 (1 had none and is no longer read).
-inline constexpr int kCheckpointFormatVersion = 2;
+// 3: the root also names the session's owner (a version 2 file belongs to the local owner).
+inline constexpr int kCheckpointFormatVersion = 3;
 
 struct CheckpointContents {
   std::string scenario_text;  // the lbsolid.v1.Scenario in protobuf text format
   std::string session_id;     // the session it was taken from
   std::string session_name;
   std::string request_id;     // the client's request id it was created with (may be empty)
+  std::string owner;          // the identity the session belongs to (server/auth/identity.h)
   bool done = false;          // the session had reached its target (it comes back DONE)
   bool started = false;       // it had been run or stepped (false: it comes back CREATED)
   long target_step = 0;       // the session's target when it was taken (0: none)
@@ -36,7 +38,7 @@ struct WriterInfo {
 void write_checkpoint(const std::string& path, const CheckpointContents& contents, const WriterInfo& writer);
 
 // Throws std::runtime_error naming the path, the dataset or attribute, and the cause: missing, not
-// HDF5, not a checkpoint, a format version other than 2, a checksum mismatch (the file was damaged
+// HDF5, not a checkpoint, a format version other than 2 or 3, a checksum mismatch (the file was damaged
 // or altered), a dataset of the wrong size, contents a run could not continue from.
 CheckpointContents read_checkpoint(const std::string& path);
 

@@ -69,12 +69,13 @@ void write_solid(hid_t file, const solid::SolidState& solid, const DatasetChecks
 
 // --- reading ----------------------------------------------------------------------------------
 
-void check_format(hid_t root) {
+// The file's format version, if this build reads it.
+int check_format(hid_t root) {
   if (H5Aexists(root, "format") <= 0 || h5::read_string_attribute(root, "format") != kFormatName)
     throw std::runtime_error(std::string("not an lbsolid checkpoint (no format attribute \"") + kFormatName + "\")");
   const int version = h5::read_attribute<int>(root, "format_version");
-  const std::string reads = " (this build reads version " + std::to_string(kCheckpointFormatVersion) + ")";
-  if (version == kCheckpointFormatVersion) return;
+  const std::string reads = " (this build reads version " + std::to_string(kCheckpointFormatVersion) + " and the older version 2)";
+  if (version == kCheckpointFormatVersion || version == 2) return version;
   if (version > kCheckpointFormatVersion)
     throw std::runtime_error("checkpoint format version " + std::to_string(version) +
                              " is newer than this build reads" + reads);
@@ -178,6 +179,7 @@ void write_checkpoint_layout(const std::string& file_path, const CheckpointConte
   h5::write_string_attribute(root, "session_id", contents.session_id);
   h5::write_string_attribute(root, "session_name", contents.session_name);
   h5::write_string_attribute(root, "request_id", contents.request_id);
+  h5::write_string_attribute(root, "owner", contents.owner);
   h5::write_attribute(root, "done", static_cast<int>(contents.done));
   h5::write_attribute(root, "started", static_cast<int>(contents.started));
   h5::write_attribute(root, "target_step", contents.target_step);
@@ -200,7 +202,7 @@ CheckpointContents read_checkpoint_layout(const std::string& file_path) {
   }
   h5::File file(h5::check(H5Fopen(file_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "cannot open"));
   const hid_t root = file.get();
-  check_format(root);
+  const int version = check_format(root);
   const hsize_t max_values = most_values_in(root);
   DatasetChecksums sums;
   WriterInfo writer;
@@ -210,6 +212,7 @@ CheckpointContents read_checkpoint_layout(const std::string& file_path) {
   contents.session_id = h5::read_string_attribute(root, "session_id");
   contents.session_name = h5::read_string_attribute(root, "session_name");
   contents.request_id = h5::read_string_attribute(root, "request_id");
+  contents.owner = version >= 3 ? h5::read_string_attribute(root, "owner") : kLegacyOwner;
   contents.done = read_flag(root, "root ", "done");
   contents.started = read_flag(root, "root ", "started");
   contents.target_step = h5::read_attribute<long>(root, "target_step");
@@ -221,7 +224,7 @@ CheckpointContents read_checkpoint_layout(const std::string& file_path) {
   if (contents.state.has_fluid) contents.state.fluid = read_fluid(root, max_values, sums);
   contents.state.has_solid = h5::has_link(root, "solid");
   if (contents.state.has_solid) contents.state.solid = read_solid(root, max_values, sums);
-  if (root_checksum(kCheckpointFormatVersion, writer, contents, sums) !=
+  if (root_checksum(version, writer, contents, sums) !=
       h5::read_string_attribute(root, kChecksumAttribute))
     throw std::runtime_error(
         "root attributes: checksum mismatch (an attribute of / or /fluid, the groups present or a dataset's "

@@ -1,8 +1,9 @@
 #pragma once
-// The HDF5 layout of a checkpoint, format 2, with its checksums (checkpoint_checksum.h):
-//   /                   attrs format = "lbsolid-checkpoint", format_version = 2, lbsolid_version,
-//                       git_revision, session_id, session_name, request_id, done, started, target_step,
-//                       step, sha256 (of the root record)
+// The HDF5 layout of a checkpoint, format 3, with its checksums (checkpoint_checksum.h):
+//   /                   attrs format = "lbsolid-checkpoint", format_version = 3, lbsolid_version,
+//                       git_revision, session_id, session_name, request_id, owner, done, started,
+//                       target_step, step, sha256 (of the root record)
+// Format 2 is the same without owner (read as the local owner's, kLegacyOwner).
 //   /scenario           string dataset: the scenario text, byte for byte; attr sha256
 //   /fluid              (with a fluid) attrs steps, current, pulled, stepped, buffers, cells
 //   /fluid/populations  float64 [buffers * Q * cells], exactly FluidRawState::populations; attr sha256
@@ -18,13 +19,17 @@
 
 namespace lbsolid::server::storage {
 
+// The owner of a session saved before owners existed (format 2): the one identity of a daemon
+// that authenticates nobody (server/auth/identity.h kLocalOwner).
+inline constexpr char kLegacyOwner[] = "local";
+
 // Creates (or truncates) file_path and writes the checkpoint into it, flushed and closed. Throws
 // std::runtime_error naming the object that failed.
 void write_checkpoint_layout(const std::string& file_path, const CheckpointContents& contents,
                              const WriterInfo& writer);
 
 // Throws std::runtime_error naming what failed: not HDF5, not a checkpoint, a format version other
-// than 2, a missing or malformed object, a checksum that does not match ("dataset
+// than 2 or 3, a missing or malformed object, a checksum that does not match ("dataset
 // /fluid/populations: checksum mismatch").
 CheckpointContents read_checkpoint_layout(const std::string& file_path);
 

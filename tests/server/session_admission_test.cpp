@@ -17,6 +17,8 @@
 namespace lbsolid::testing {
 namespace {
 
+const server::auth::Identity kLocal = server::auth::local_admin();  // the one caller of a daemon without authentication
+
 v1::Scenario sheet_without_fluid(int side) {
   v1::Scenario s;
   s.set_name("sheet");
@@ -117,7 +119,7 @@ class Admission : public ::testing::Test {
 // A 49-byte request for a 2048 x 2048 sheet built 1.27 GB: now refused before anything is built.
 TEST_F(Admission, ASessionPastTheMemoryLimitIsRefusedNamingTheFigure) {
   auto big = sheet_without_fluid(2048);
-  const auto created = manager_.create(big, "");
+  const auto created = manager_.create(big, "", kLocal);
   ASSERT_EQ(created.status().code(), absl::StatusCode::kResourceExhausted) << created.status();
   EXPECT_NE(created.status().message().find("--max_memory"), std::string::npos) << created.status();
   EXPECT_NE(created.status().message().find("MiB"), std::string::npos) << created.status();
@@ -126,14 +128,14 @@ TEST_F(Admission, ASessionPastTheMemoryLimitIsRefusedNamingTheFigure) {
 
 TEST_F(Admission, ParticlesOfAllSessionsTogetherAreCapped) {
   // 200 x 200 = 40000 particles each (a few MiB): two fit under 100000, the third does not.
-  ASSERT_TRUE(manager_.create(sheet_without_fluid(200), "").ok());
-  ASSERT_TRUE(manager_.create(sheet_without_fluid(200), "").ok());
-  const auto third = manager_.create(sheet_without_fluid(200), "");
+  ASSERT_TRUE(manager_.create(sheet_without_fluid(200), "", kLocal).ok());
+  ASSERT_TRUE(manager_.create(sheet_without_fluid(200), "", kLocal).ok());
+  const auto third = manager_.create(sheet_without_fluid(200), "", kLocal);
   ASSERT_EQ(third.status().code(), absl::StatusCode::kResourceExhausted) << third.status();
   EXPECT_NE(third.status().message().find("--max_particles"), std::string::npos) << third.status();
   // Deleting one gives its particles back.
-  ASSERT_TRUE(manager_.remove(manager_.list().front()->id()).ok());
-  EXPECT_TRUE(manager_.create(sheet_without_fluid(200), "").ok());
+  ASSERT_TRUE(manager_.remove(manager_.list(kLocal).front()->id(), kLocal).ok());
+  EXPECT_TRUE(manager_.create(sheet_without_fluid(200), "", kLocal).ok());
 }
 
 int threads_of_this_process() {
@@ -149,11 +151,11 @@ TEST_F(Admission, SessionsShareTheDaemonsFluidThreads) {
   const int before = threads_of_this_process();
   auto threaded = small_channel_with_disk();
   threaded.mutable_fluid()->set_threads(3);
-  for (int k = 0; k < 5; ++k) ASSERT_TRUE(manager_.create(threaded, "").ok()) << k;
+  for (int k = 0; k < 5; ++k) ASSERT_TRUE(manager_.create(threaded, "", kLocal).ok()) << k;
   EXPECT_EQ(threads_of_this_process(), before);
   // They step on the shared pool, several at once.
-  for (const auto& session : manager_.list()) ASSERT_TRUE(manager_.run(session->id(), 200).ok());
-  for (const auto& session : manager_.list()) {
+  for (const auto& session : manager_.list(kLocal)) ASSERT_TRUE(manager_.run(session->id(), 200, kLocal).ok());
+  for (const auto& session : manager_.list(kLocal)) {
     for (int wait = 0; wait < 2000 && session->state() != v1::SESSION_STATE_DONE; ++wait)
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     EXPECT_EQ(session->state(), v1::SESSION_STATE_DONE) << session->id();

@@ -16,6 +16,8 @@
 namespace lbsolid::testing {
 namespace {
 
+const server::auth::Identity kLocal = server::auth::local_admin();  // the one caller of a daemon without authentication
+
 using namespace std::chrono_literals;
 using server::Session;
 
@@ -27,7 +29,7 @@ v1::Scenario slow_scenario() { return small_channel_with_disk(192, 160); }
 
 std::shared_ptr<Session> make_session(const v1::Scenario& scenario = slow_scenario()) {
   return std::make_shared<Session>(
-      server::SessionSetup{"s-test", "", scenario, server::translate_scenario(scenario), 0});
+      server::SessionSetup{"s-test", "", scenario, server::translate_scenario(scenario), 0, "local"});
 }
 
 // Waits until the session has taken at least one step since `from`.
@@ -102,10 +104,10 @@ class StateChangeWhileRunning : public ::testing::Test {
 };
 
 TEST_F(StateChangeWhileRunning, PauseAnswersWithTheStepAtWhichTheSessionStopped) {
-  auto session = manager_.create(slow_scenario(), "");
+  auto session = manager_.create(slow_scenario(), "", kLocal);
   ASSERT_TRUE(session.ok()) << session.status();
   const std::string id = (*session)->id();
-  ASSERT_TRUE(manager_.run(id, kEndless).ok());
+  ASSERT_TRUE(manager_.run(id, kEndless, kLocal).ok());
   long previous = 0;
   for (int round = 0; round < 10; ++round) {
     wait_for_progress(**session, previous);
@@ -115,7 +117,7 @@ TEST_F(StateChangeWhileRunning, PauseAnswersWithTheStepAtWhichTheSessionStopped)
     EXPECT_EQ((*session)->describe().step(), answered) << "round " << round;
     EXPECT_EQ((*session)->state(), v1::SESSION_STATE_PAUSED);
     previous = answered;
-    ASSERT_TRUE(manager_.resume(id).ok());
+    ASSERT_TRUE(manager_.resume(id, kLocal).ok());
   }
   ASSERT_TRUE((*session)->cancel().ok());
   const long cancelled = (*session)->describe().step();
@@ -126,10 +128,10 @@ TEST_F(StateChangeWhileRunning, PauseAnswersWithTheStepAtWhichTheSessionStopped)
 // describe() reads the sizes of the solid while a worker steps it (a data race the TSan build
 // reports; here it must at least give the values of the built session).
 TEST_F(StateChangeWhileRunning, DescribeWhileRunningReadsConsistentSizes) {
-  auto session = manager_.create(slow_scenario(), "");
+  auto session = manager_.create(slow_scenario(), "", kLocal);
   ASSERT_TRUE(session.ok());
   const auto before = (*session)->describe();
-  ASSERT_TRUE(manager_.run((*session)->id(), kEndless).ok());
+  ASSERT_TRUE(manager_.run((*session)->id(), kEndless, kLocal).ok());
   for (int k = 0; k < 200; ++k) {
     const auto now = (*session)->describe();
     EXPECT_EQ(now.particles(), before.particles());

@@ -524,6 +524,21 @@ TEST(CheckpointFile, MissingOrForeignFilesAreRefusedClearly) {
   EXPECT_NE(message.find(dir.file("other.h5")), std::string::npos) << message;
 }
 
+// A file written by lbsolidd before owners existed (format 2; tests/server/data/README.md) is still
+// read, whole and verified, as the local owner's.
+TEST(CheckpointFile, Format2FilesFromBeforeOwnersAreReadAsTheLocalOwners) {
+  const CheckpointContents old = read_checkpoint(std::string(LBSOLID_TEST_DATA_DIR) + "/checkpoint_format2.h5");
+  EXPECT_EQ(old.owner, "local");
+  EXPECT_EQ(old.session_id, "s-0f9de15af72d8daab098767e2e1df2c8");
+  EXPECT_EQ(old.request_id, "fixture-v2");
+  EXPECT_EQ(old.session_name, "format 2 fixture");
+  EXPECT_TRUE(old.done);
+  EXPECT_EQ(old.state.step, 20);
+  EXPECT_EQ(old.target_step, 20);
+  ASSERT_TRUE(old.state.has_fluid);
+  EXPECT_EQ(old.state.fluid.cells, 16 * 8);
+}
+
 TEST(CheckpointFile, NewerFormatVersionIsRefusedNamingTheVersionRead) {
   TempDir dir;
   const std::string path = dir.file("c.h5");

@@ -1,5 +1,6 @@
 #include "service/daemon_process.h"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
@@ -24,7 +25,8 @@ std::string fresh_directory(const std::string& stem) {
   return dir.string();
 }
 
-DaemonProcess::DaemonProcess(std::string data_dir, std::vector<std::string> extra_flags, ProcessLimits limits)
+DaemonProcess::DaemonProcess(std::string data_dir, std::vector<std::string> extra_flags, ProcessLimits limits,
+                             Connection connection)
     : data_dir_(std::move(data_dir)) {
   fs::create_directories(data_dir_);
   const std::string port_file = data_dir_ + "/port";
@@ -36,6 +38,10 @@ DaemonProcess::DaemonProcess(std::string data_dir, std::vector<std::string> extr
   if (pid_ < 0) throw std::runtime_error("fork failed");
   if (pid_ == 0) {
     prctl(PR_SET_PDEATHSIG, SIGKILL);  // a crashed test takes its daemon with it
+    if (!connection.log_path.empty()) {
+      const int log = open(connection.log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+      if (log < 0 || dup2(log, STDOUT_FILENO) < 0 || dup2(log, STDERR_FILENO) < 0) _exit(126);
+    }
     if (limits.max_file_bytes >= 0) {
       signal(SIGXFSZ, SIG_IGN);  // ignored dispositions survive execv
       const rlimit size{static_cast<rlim_t>(limits.max_file_bytes), static_cast<rlim_t>(limits.max_file_bytes)};
@@ -61,8 +67,12 @@ DaemonProcess::DaemonProcess(std::string data_dir, std::vector<std::string> extr
     if (port == 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   address_ = "127.0.0.1:" + std::to_string(port);
-  channel_ = grpc::CreateChannel(address_, grpc::InsecureChannelCredentials());
-  if (!channel_->WaitForConnected(std::chrono::system_clock::now() + std::chrono::seconds(10)))
+  for (const auto& flag : extra_flags)  // the last --listen counts, as for the daemon's flags
+    if (flag.starts_with("--listen=unix:")) address_ = flag.substr(std::string("--listen=").size());
+    else if (flag.starts_with("--listen=")) address_ = "127.0.0.1:" + std::to_string(port);
+  const auto credentials = connection.credentials ? connection.credentials : grpc::InsecureChannelCredentials();
+  channel_ = grpc::CreateChannel(address_, credentials);
+  if (connection.connect && !channel_->WaitForConnected(std::chrono::system_clock::now() + std::chrono::seconds(10)))
     throw std::runtime_error("lbsolidd at " + address_ + " did not accept a connection");
 }
 

@@ -23,11 +23,20 @@ struct ProcessLimits {
   long max_file_bytes = -1;
 };
 
+// How the test reaches the daemon: null credentials are plaintext; a --listen=unix:PATH among the
+// daemon's flags is dialled as such. With a log_path, the daemon's log (its stdout and stderr) goes there.
+// Without `connect`, the daemon is only started (a TLS daemon no client may reach).
+struct Connection {
+  std::shared_ptr<grpc::ChannelCredentials> credentials;
+  std::string log_path;
+  bool connect = true;
+};
+
 class DaemonProcess {
  public:
   // data_dir is created if needed and kept (a restart test starts a second daemon on it).
   explicit DaemonProcess(std::string data_dir, std::vector<std::string> extra_flags = {},
-                         ProcessLimits limits = {});
+                         ProcessLimits limits = {}, Connection connection = {});
   ~DaemonProcess();  // kills the daemon if it still runs
   DaemonProcess(const DaemonProcess&) = delete;
   DaemonProcess& operator=(const DaemonProcess&) = delete;

@@ -1,0 +1,105 @@
+#include "server/auth/transport.h"
+
+#include <grpcpp/security/auth_metadata_processor.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+
+namespace lbsolid::server::auth {
+
+namespace {
+
+absl::StatusOr<std::string> read_pem(const std::string& flag, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return absl::InvalidArgumentError(absl::StrCat("--", flag, ": cannot read ", path));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (text.str().find("-----BEGIN ") == std::string::npos)
+    return absl::InvalidArgumentError(absl::StrCat("--", flag, ": ", path, " holds no PEM block"));
+  return text.str();
+}
+
+// Runs inside gRPC before the call is dispatched: a call it refuses never reaches a session.
+class TokenProcessor final : public grpc::AuthMetadataProcessor {
+ public:
+  explicit TokenProcessor(std::shared_ptr<const Authenticator> authenticator)
+      : authenticator_(std::move(authenticator)) {}
+
+  bool IsBlocking() const override { return false; }  // a map lookup: no need for another thread
+
+  grpc::Status Process(const InputMetadata& metadata, grpc::AuthContext* context, OutputMetadata* consumed,
+                       OutputMetadata*) override {
+    const auto path = metadata.find(":path");
+    if (path != metadata.end() && probe_path(std::string_view(path->second.data(), path->second.size())))
+      return grpc::Status::OK;
+    std::optional<std::string_view> authorization;
+    const auto header = metadata.find("authorization");
+    if (header != metadata.end()) authorization = std::string_view(header->second.data(), header->second.size());
+    std::string certificate_name;
+    for (const auto& name : context->FindPropertyValues(GRPC_X509_CN_PROPERTY_NAME))
+      certificate_name.assign(name.data(), name.size());
+    const auto identity = authenticator_->identify(authorization, certificate_name);
+    if (!identity.ok()) return grpc::Status(grpc::StatusCode::UNAUTHENTICATED, std::string(identity.status().message()));
+    context->AddProperty(kOwnerProperty, identity->owner);
+    context->AddProperty(kRoleProperty, identity->role == Role::kAdmin ? "admin" : "user");
+    if (authorization) consumed->insert({"authorization", std::string(*authorization)});
+    return grpc::Status::OK;
+  }
+
+ private:
+  // Probes and tools reach these without credentials: they reveal no session.
+  static bool probe_path(std::string_view path) {
+    return path.starts_with("/grpc.health.v1.Health/") || path.starts_with("/grpc.reflection.");
+  }
+  std::shared_ptr<const Authenticator> authenticator_;
+};
+
+}  // namespace
+
+bool is_local_address(const std::string& listen) {
+  if (listen.starts_with("unix:") || listen.starts_with("unix-abstract:")) return true;
+  std::string host = listen.substr(0, listen.rfind(':'));
+  if (host.size() >= 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+  return host == "localhost" || host == "::1" || host.starts_with("127.");
+}
+
+absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> server_credentials(
+    const TransportOptions& options, std::shared_ptr<const Authenticator> authenticator) {
+  if (options.tls_cert.empty() != options.tls_key.empty())
+    return absl::InvalidArgumentError("--tls_cert, --tls_key: give both or neither");
+  // Off loopback, every caller of a daemon that authenticates nobody would be its admin.
+  if (!is_local_address(options.listen) && !authenticator->authenticates() && !options.allow_insecure)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "--listen: ", options.listen,
+        " is not loopback or a Unix socket: give --tokens_file or --tls_client_ca so that callers are "
+        "authenticated, or --allow_insecure to let anyone who reaches the port act as admin"));
+  if (options.tls_cert.empty()) {
+    if (!options.tls_client_ca.empty())
+      return absl::InvalidArgumentError("--tls_client_ca: needs --tls_cert and --tls_key (mutual TLS is TLS)");
+    if (!is_local_address(options.listen) && !options.allow_insecure)
+      return absl::InvalidArgumentError(absl::StrCat(
+          "--listen: ", options.listen,
+          " is not loopback or a Unix socket: give --tls_cert and --tls_key, or --allow_insecure to serve plaintext "
+          "anyway (anyone on the network can then read and forge calls)"));
+    return grpc::InsecureServerCredentials();
+  }
+  grpc::SslServerCredentialsOptions ssl;
+  const auto cert = read_pem("tls_cert", options.tls_cert);
+  if (!cert.ok()) return cert.status();
+  const auto key = read_pem("tls_key", options.tls_key);
+  if (!key.ok()) return key.status();
+  ssl.pem_key_cert_pairs.push_back({*key, *cert});
+  if (!options.tls_client_ca.empty()) {
+    const auto ca = read_pem("tls_client_ca", options.tls_client_ca);
+    if (!ca.ok()) return ca.status();
+    ssl.pem_root_certs = *ca;
+    ssl.client_certificate_request = GRPC_SSL_REQUEST_AND_REQUIRE_CLIENT_CERTIFICATE_AND_VERIFY;
+  }
+  auto credentials = grpc::SslServerCredentials(ssl);
+  credentials->SetAuthMetadataProcessor(std::make_shared<TokenProcessor>(std::move(authenticator)));
+  return credentials;
+}
+
+}  // namespace lbsolid::server::auth

@@ -1,0 +1,298 @@
+// The daemon on a network (issue 13): TLS and mutual TLS with throwaway certificates made at test
+// time, bearer tokens checked before a call reaches a session (right, wrong, missing, revoked by a
+// reload on SIGHUP), safe defaults (no plaintext and no unauthenticated callers off loopback
+// unless --allow_insecure), Unix sockets, audit lines without secrets, and owners that cannot
+// reach each other's sessions through any RPC.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include "service/daemon_process.h"
+#include "service/test_certificates.h"
+#include "service/test_scenarios.h"
+
+namespace lbsolid::testing {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Tokens and the lines of a tokens file for them (hashes by coreutils' sha256sum).
+std::string token_line(const std::string& token, const std::string& owner, const std::string& role) {
+  const ScopedDirectory dir("lbsolid-sha");
+  { std::ofstream(dir.path + "/in", std::ios::binary) << token; }
+  const std::string command = "sha256sum '" + dir.path + "/in' > '" + dir.path + "/out'";
+  if (std::system(command.c_str()) != 0) throw std::runtime_error("sha256sum failed");
+  std::ifstream in(dir.path + "/out");
+  std::string hash;
+  in >> hash;
+  return hash + " " + owner + " " + role + "\n";
+}
+
+// What a client brings: the CA it trusts, and a bearer token or a client certificate.
+struct Tls {
+  std::string root;
+  std::string token;
+  std::string cert, key;
+};
+
+Tls with_token(const std::string& root, const std::string& token = "") { return {root, token, "", ""}; }
+Tls with_certificate(const std::string& root, const std::string& cert, const std::string& key) {
+  return {root, "", cert, key};
+}
+
+std::shared_ptr<grpc::ChannelCredentials> credentials_for(const Tls& tls) {
+  grpc::SslCredentialsOptions ssl;
+  ssl.pem_root_certs = file_text(tls.root);
+  if (!tls.cert.empty()) {
+    ssl.pem_cert_chain = file_text(tls.cert);
+    ssl.pem_private_key = file_text(tls.key);
+  }
+  auto channel = grpc::SslCredentials(ssl);
+  if (tls.token.empty()) return channel;
+  return grpc::CompositeChannelCredentials(channel, grpc::AccessTokenCredentials(tls.token));
+}
+
+std::shared_ptr<grpc::Channel> channel_for(const DaemonProcess& daemon, const Tls& tls) {
+  grpc::ChannelArguments args;
+  args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);  // a connection (and handshake) of its own
+  return grpc::CreateCustomChannel(daemon.address(), credentials_for(tls), args);
+}
+
+std::unique_ptr<v1::Simulation::Stub> stub_for(const DaemonProcess& daemon, const Tls& tls) {
+  return v1::Simulation::NewStub(channel_for(daemon, tls));
+}
+
+grpc::Status server_info(v1::Simulation::Stub& stub) {
+  v1::ServerInfo info;
+  auto context = deadline_context(5);
+  return stub.GetServerInfo(context.get(), {}, &info);
+}
+
+std::string log_of(const std::string& path) { return file_text(path); }
+
+// How a server stream ends when it sends nothing: its final status (a frame read is an error).
+template <class Frame, class Request, class Open>
+grpc::Status stream_status(v1::Simulation::Stub& stub, Open open, const Request& request) {
+  auto context = deadline_context();
+  auto reader = (stub.*open)(context.get(), request);
+  Frame frame;
+  if (reader->Read(&frame)) {
+    context->TryCancel();
+    reader->Finish();
+    return grpc::Status(grpc::StatusCode::INTERNAL, "the stream sent a frame");
+  }
+  return reader->Finish();
+}
+
+// Starting fails with exit status 2 and `fragment` in the log.
+void expect_refused_start(const std::vector<std::string>& flags, const std::string& fragment) {
+  const ScopedDirectory dir("lbsolid-remote");
+  const std::string log = dir.path + "/log";
+  try {
+    DaemonProcess daemon(dir.path + "/data", flags, {}, {nullptr, log});
+    ADD_FAILURE() << "started with the flags that must be refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("exited at start with status 2"), std::string::npos) << e.what();
+  }
+  EXPECT_NE(log_of(log).find(fragment), std::string::npos) << log_of(log);
+}
+
+class RemoteAccess : public ::testing::Test {
+ protected:
+  RemoteAccess() : dir_("lbsolid-remote"), certs_(make_test_certificates(dir_.path)) {
+    write_tokens(token_line("alice-secret", "alice", "user") + token_line("bob-secret", "bob", "user") +
+                 token_line("root-secret", "ops", "admin"));
+  }
+  void write_tokens(const std::string& text) { std::ofstream(tokens_) << text; }
+  std::vector<std::string> tls_flags(const std::string& cert, const std::string& key) const {
+    return {"--tls_cert=" + cert, "--tls_key=" + key, "--tokens_file=" + tokens_, "--log_level=info"};
+  }
+  ScopedDirectory dir_;
+  TestCertificates certs_;
+  const std::string tokens_ = dir_.path + "/tokens";
+  const std::string log_ = dir_.path + "/daemon.log";
+};
+
+TEST_F(RemoteAccess, OffLoopbackPlaintextOrUnauthenticatedCallersAreRefusedUnlessAllowed) {
+  expect_refused_start({"--listen=0.0.0.0:0"}, "--listen: 0.0.0.0:0 is not loopback or a Unix socket");
+  expect_refused_start({"--listen=0.0.0.0:0", "--tls_cert=" + certs_.server_cert, "--tls_key=" + certs_.server_key},
+                       "give --tokens_file or --tls_client_ca");
+  expect_refused_start({"--tls_cert=" + certs_.server_cert}, "--tls_cert, --tls_key: give both or neither");
+  expect_refused_start({"--tls_client_ca=" + certs_.ca}, "--tls_client_ca: needs --tls_cert and --tls_key");
+  expect_refused_start({"--tls_cert=" + dir_.path + "/absent.pem", "--tls_key=" + certs_.server_key},
+                       "--tls_cert: cannot read");
+  expect_refused_start({"--tokens_file=" + dir_.path + "/absent"}, "--tokens_file: cannot read");
+
+  DaemonProcess allowed(dir_.path + "/data", {"--listen=0.0.0.0:0", "--allow_insecure"}, {}, {nullptr, log_});
+  EXPECT_TRUE(server_info(*allowed.stub()).ok());
+  EXPECT_NE(log_of(log_).find("serving plaintext on 0.0.0.0:0"), std::string::npos) << log_of(log_);
+  EXPECT_NE(log_of(log_).find("acts as admin"), std::string::npos) << log_of(log_);
+}
+
+TEST_F(RemoteAccess, TlsWithTokensAuthenticatesEveryCallBeforeItReachesASession) {
+  const Tls alice = with_token(certs_.ca, "alice-secret");
+  DaemonProcess daemon(dir_.path + "/data", tls_flags(certs_.server_cert, certs_.server_key), {},
+                       {credentials_for(alice), log_});
+  auto as_alice = stub_for(daemon, alice);
+  v1::Session session;
+  ASSERT_TRUE(create_session(*as_alice, small_channel_with_disk(24, 12), &session).ok());
+  EXPECT_EQ(session.owner(), "alice");
+
+  EXPECT_TRUE(has_status(server_info(*stub_for(daemon, with_token(certs_.ca))), grpc::StatusCode::UNAUTHENTICATED,
+                         "authorization: missing"));
+  EXPECT_TRUE(has_status(server_info(*stub_for(daemon, with_token(certs_.ca, "guessed"))), grpc::StatusCode::UNAUTHENTICATED,
+                         "unknown or revoked token"));
+  // A client that trusts another CA does not talk to this daemon at all.
+  EXPECT_TRUE(has_status(server_info(*stub_for(daemon, with_token(certs_.other_ca, "alice-secret"))),
+                         grpc::StatusCode::UNAVAILABLE));
+
+  // Health needs no credentials (probes), and reveals no session.
+  std::string health;
+  EXPECT_TRUE(health_check(channel_for(daemon, with_token(certs_.ca)), &health).ok());
+  EXPECT_EQ(health, std::string("\x08\x01", 2));
+
+  // Revoked by a reload: alice's token goes, dave's comes; a reload that fails keeps them.
+  write_tokens(token_line("dave-secret", "dave", "user"));
+  ASSERT_EQ(kill(daemon.pid(), SIGHUP), 0);
+  const auto give_up = std::chrono::steady_clock::now() + 10s;
+  while (server_info(*stub_for(daemon, alice)).ok() && std::chrono::steady_clock::now() < give_up)
+    std::this_thread::sleep_for(20ms);
+  EXPECT_TRUE(has_status(server_info(*stub_for(daemon, alice)), grpc::StatusCode::UNAUTHENTICATED));
+  EXPECT_TRUE(server_info(*stub_for(daemon, with_token(certs_.ca, "dave-secret"))).ok());
+  write_tokens("not a tokens file\n");
+  ASSERT_EQ(kill(daemon.pid(), SIGHUP), 0);
+  std::this_thread::sleep_for(300ms);
+  EXPECT_TRUE(server_info(*stub_for(daemon, with_token(certs_.ca, "dave-secret"))).ok());
+  EXPECT_EQ(daemon.stop(SIGTERM), 0);
+
+  const std::string log = log_of(log_);
+  EXPECT_NE(log.find("audit: owner alice (user) CreateSession session \"" + session.id() + "\": OK"), std::string::npos)
+      << log;
+  EXPECT_NE(log.find("SIGHUP: the tokens in force stay"), std::string::npos) << log;
+  for (const char* secret : {"alice-secret", "bob-secret", "root-secret", "dave-secret", "guessed"})
+    EXPECT_EQ(log.find(secret), std::string::npos) << secret << " in the log";
+}
+
+TEST_F(RemoteAccess, AClientRefusesAnExpiredServerCertificate) {
+  const Tls alice = with_token(certs_.ca, "alice-secret");
+  DaemonProcess daemon(dir_.path + "/data", tls_flags(certs_.expired_cert, certs_.expired_key), {},
+                       {nullptr, log_, /*connect=*/false});
+  // Started (the daemon serves what it is given), but no client that checks certificates connects.
+  EXPECT_TRUE(has_status(server_info(*stub_for(daemon, alice)), grpc::StatusCode::UNAVAILABLE));
+}
+
+TEST_F(RemoteAccess, MutualTlsTakesTheOwnerFromAVerifiedClientCertificate) {
+  const Tls carol = with_certificate(certs_.ca, certs_.client_cert, certs_.client_key);
+  DaemonProcess daemon(dir_.path + "/data",
+                       {"--tls_cert=" + certs_.server_cert, "--tls_key=" + certs_.server_key,
+                        "--tls_client_ca=" + certs_.ca},
+                       {}, {credentials_for(carol), log_});
+  v1::Session session;
+  ASSERT_TRUE(create_session(*stub_for(daemon, carol), small_channel_with_disk(24, 12), &session).ok());
+  EXPECT_EQ(session.owner(), certs_.client_name);
+  // No certificate, or one from another CA with the same name: no connection.
+  EXPECT_TRUE(has_status(server_info(*stub_for(daemon, with_token(certs_.ca))), grpc::StatusCode::UNAVAILABLE));
+  EXPECT_TRUE(has_status(server_info(*stub_for(daemon, with_certificate(certs_.ca, certs_.stranger_cert, certs_.stranger_key))),
+                         grpc::StatusCode::UNAVAILABLE));
+}
+
+TEST_F(RemoteAccess, AUnixSocketServesPlaintextCalls) {
+  const std::string socket = dir_.path + "/lbsolidd.sock";
+  DaemonProcess daemon(dir_.path + "/data", {"--listen=unix:" + socket});
+  EXPECT_EQ(daemon.address(), "unix:" + socket);
+  v1::Session session;
+  ASSERT_TRUE(create_session(*daemon.stub(), small_channel_with_disk(24, 12), &session).ok());
+  EXPECT_EQ(session.owner(), "local");  // nobody is authenticated: the local admin
+}
+
+TEST_F(RemoteAccess, TokensWorkOverPlaintextLoopbackToo) {
+  DaemonProcess daemon(dir_.path + "/data", {"--tokens_file=" + tokens_});
+  auto stub = daemon.stub();
+  EXPECT_TRUE(has_status(server_info(*stub), grpc::StatusCode::UNAUTHENTICATED, "authorization: missing"));
+  v1::ServerInfo info;
+  auto context = deadline_context();
+  context->AddMetadata("authorization", "Bearer bob-secret");
+  EXPECT_TRUE(stub->GetServerInfo(context.get(), {}, &info).ok());
+}
+
+// Every RPC that names a session or checkpoint, made by bob on alice's: NOT_FOUND each time, and
+// alice's session is as she left it. The admin sees and reaches it.
+TEST_F(RemoteAccess, NoRpcLetsOneUserSeeOrTouchAnothersSession) {
+  const Tls alice = with_token(certs_.ca, "alice-secret"), bob = with_token(certs_.ca, "bob-secret"),
+            admin = with_token(certs_.ca, "root-secret");
+  DaemonProcess daemon(dir_.path + "/data", tls_flags(certs_.server_cert, certs_.server_key), {},
+                       {credentials_for(alice), log_});
+  auto as_alice = stub_for(daemon, alice);
+  auto as_bob = stub_for(daemon, bob);
+  v1::Session session;
+  ASSERT_TRUE(create_session(*as_alice, small_channel_with_disk(24, 12), &session, "job-1").ok());
+  const std::string id = session.id();
+  v1::CheckpointResponse saved;
+  ASSERT_TRUE(checkpoint(*as_alice, id, &saved).ok());
+
+  const auto not_found = [](const grpc::Status& status) { return has_status(status, grpc::StatusCode::NOT_FOUND); };
+  v1::Session out;
+  EXPECT_TRUE(not_found(get_session(*as_bob, id, &out)));
+  EXPECT_TRUE(not_found(run_session(*as_bob, id, 10)));
+  EXPECT_TRUE(not_found(resume(*as_bob, id, &out)));
+  EXPECT_TRUE(not_found(checkpoint(*as_bob, id, &saved)));
+  EXPECT_TRUE(not_found(restore(*as_bob, saved.checkpoint_id(), &out)));
+  FieldBytes fields;
+  EXPECT_TRUE(not_found(read_fields(*as_bob, id, &fields)));
+  {
+    v1::StepRequest r;
+    r.set_session_id(id);
+    r.set_steps(1);
+    v1::StepResponse s;
+    EXPECT_TRUE(not_found(as_bob->Step(deadline_context().get(), r, &s)));
+  }
+  {
+    v1::PauseRequest r;
+    r.set_session_id(id);
+    EXPECT_TRUE(not_found(as_bob->Pause(deadline_context().get(), r, &out)));
+  }
+  {
+    v1::CancelRequest r;
+    r.set_session_id(id);
+    EXPECT_TRUE(not_found(as_bob->Cancel(deadline_context().get(), r, &out)));
+  }
+  {
+    v1::DeleteSessionRequest r;
+    r.set_session_id(id);
+    v1::DeleteSessionResponse s;
+    EXPECT_TRUE(not_found(as_bob->DeleteSession(deadline_context().get(), r, &s)));
+  }
+  v1::WatchSessionRequest watch;
+  watch.set_session_id(id);
+  EXPECT_TRUE(not_found(stream_status<v1::SessionEvent>(*as_bob, &v1::Simulation::Stub::WatchSession, watch)));
+  v1::WatchProfilesRequest profiles;
+  profiles.set_session_id(id);
+  profiles.set_every(1);
+  EXPECT_TRUE(not_found(stream_status<v1::ProfileFrame>(*as_bob, &v1::Simulation::Stub::WatchProfiles, profiles)));
+  v1::WatchParticlesRequest particles;
+  particles.set_session_id(id);
+  particles.set_every(1);
+  EXPECT_TRUE(not_found(stream_status<v1::ParticleFrame>(*as_bob, &v1::Simulation::Stub::WatchParticles, particles)));
+  v1::ListSessionsResponse listed;
+  ASSERT_TRUE(as_bob->ListSessions(deadline_context().get(), {}, &listed).ok());
+  EXPECT_EQ(listed.sessions_size(), 0);
+  v1::Session bobs;  // his request id of the same name is his own job
+  ASSERT_TRUE(create_session(*as_bob, small_channel_with_disk(24, 12), &bobs, "job-1").ok());
+  EXPECT_NE(bobs.id(), id);
+  v1::ServerInfo info;
+  ASSERT_TRUE(as_bob->GetServerInfo(deadline_context().get(), {}, &info).ok());
+  EXPECT_EQ(info.sessions(), 1);  // his own
+
+  ASSERT_TRUE(get_session(*as_alice, id, &out).ok());
+  EXPECT_EQ(out.state(), v1::SESSION_STATE_CREATED);
+  EXPECT_EQ(out.step(), 0);
+  ASSERT_TRUE(stub_for(daemon, admin)->ListSessions(deadline_context().get(), {}, &listed).ok());
+  EXPECT_EQ(listed.sessions_size(), 2);
+  EXPECT_TRUE(run_session(*stub_for(daemon, admin), id, 10).ok());
+}
+
+}  // namespace
+}  // namespace lbsolid::testing
