@@ -12,7 +12,7 @@ namespace lbsolid::cli {
 namespace {
 
 const std::set<std::string>& global_value_flags() {
-  static const std::set<std::string> flags = {"server", "timeout"};
+  static const std::set<std::string> flags = {"server", "timeout", "tls-ca", "tls-cert", "tls-key", "token-file"};
   return flags;
 }
 
@@ -32,6 +32,13 @@ bool apply_global(GlobalOptions& global, bool& server_given, const std::string& 
     global.timeout_s = parse_seconds("--timeout", value);
   } else if (name == "json") {
     global.json = true;
+  } else if (name == "tls-ca" || name == "tls-cert" || name == "tls-key" || name == "token-file") {
+    if (value.empty()) throw UsageError("--" + name + ": expected a file");
+    std::string& field = name == "tls-ca"     ? global.tls_ca
+                         : name == "tls-cert" ? global.tls_cert
+                         : name == "tls-key"  ? global.tls_key
+                                              : global.token_file;
+    field = value;
   } else {
     return false;
   }
@@ -176,6 +183,10 @@ std::string usage_text() {
       "                      have none\n"
       "  --json              print exactly one JSON object on stdout (one per line for watch),\n"
       "                      errors included as {\"error\": {...}}\n"
+      "  --tls-ca FILE       TLS: trust the daemon's certificate if this CA (PEM) signed it\n"
+      "  --tls-cert FILE, --tls-key FILE   a client certificate (mutual TLS)\n"
+      "  --token-file FILE   send the token in FILE's first line (default $LBSOLID_TOKEN) as\n"
+      "                      `authorization: Bearer <token>`\n"
       "  -h, --help          this text; `lbsolid COMMAND --help` for one command\n\n"
       "Commands:\n";
   for (const auto& command : command_specs()) {

@@ -1,6 +1,7 @@
 #pragma once
 // Command-line parsing, kept free of RPC so it can be unit-tested:
-//   lbsolid [--server HOST:PORT] [--timeout SECONDS] [--json] COMMAND [ARGS] [FLAGS]
+//   lbsolid [--server HOST:PORT] [--timeout SECONDS] [--json] [--tls-ca FILE [--tls-cert FILE
+//           --tls-key FILE]] [--token-file FILE] COMMAND [ARGS] [FLAGS]
 // Global flags may also follow the command. Flags take their value as the next argument or after
 // '='. Every problem is a UsageError (exit code 2) with a message naming the flag or argument.
 #include <map>
@@ -23,6 +24,10 @@ struct GlobalOptions {
   std::string server = kDefaultServer;  // --server, else $LBSOLID_SERVER, else the default
   double timeout_s = kDefaultTimeoutSeconds;  // deadline of each unary call
   bool json = false;
+  std::string tls_ca;      // --tls-ca: TLS, trusting this CA (PEM)
+  std::string tls_cert;    // --tls-cert, --tls-key: a client certificate for mutual TLS (PEM)
+  std::string tls_key;
+  std::string token_file;  // --token-file: a bearer token's file (else $LBSOLID_TOKEN)
 };
 
 struct FlagSpec {

@@ -81,7 +81,8 @@ std::string session_json(const lbsolid::v1::Session& s, bool with_scenario) {
       .number("steps_per_second", s.steps_per_second())
       .number("mlups", s.mlups())
       .integer("created_unix_ms", s.created_unix_ms())
-      .string("request_id", s.request_id());
+      .string("request_id", s.request_id())
+      .string("owner", s.owner());
   if (with_scenario) o.raw("scenario", scenario_json(s.scenario()));
   return o.str();
 }

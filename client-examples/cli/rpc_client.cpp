@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <random>
 
+#include "channel_security.h"
+
 namespace lbsolid::cli {
 
 RpcError::RpcError(const std::string& rpc_name, const grpc::Status& status)
@@ -24,7 +26,7 @@ Daemon::Daemon(const GlobalOptions& options) : options_(options) {
   args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, 330'000);
   args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 20'000);
   args.SetInt(GRPC_ARG_HTTP2_MAX_PINGS_WITHOUT_DATA, 0);
-  channel_ = grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);
+  channel_ = open_channel(options, args);
   stub_ = lbsolid::v1::Simulation::NewStub(channel_);
 }
 

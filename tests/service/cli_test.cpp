@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "service/daemon_process.h"
+#include "service/test_certificates.h"
 
 namespace lbsolid::testing {
 namespace {
@@ -151,6 +152,51 @@ TEST_F(Cli, MainJobGivesTheFiguresTheReadmeQuotes) {
 
 TEST_F(Cli, UnreachableDaemonExitsThree) {
   EXPECT_EQ(cli("--server 127.0.0.1:1 --timeout 2 info").exit_code, 3);
+}
+
+}  // namespace
+}  // namespace lbsolid::testing
+
+namespace lbsolid::testing {
+namespace {
+
+// The CLI on a daemon that takes TLS and tokens: --tls-ca and --token-file (or $LBSOLID_TOKEN)
+// reach it, a missing or wrong token is a permanent refusal (exit 2, not "retry"), and the
+// sessions listed are the caller's own.
+TEST(CliRemote, TlsAndATokenReachADaemonThatAuthenticates) {
+  const ScopedDirectory dir("lbsolid-cli-tls");
+  const auto certs = make_test_certificates(dir.path);
+  // sha256sum of "cli-secret" and "other-secret", by coreutils.
+  const std::string tokens = dir.path + "/tokens";
+  const std::string hash_command = "cd '" + dir.path + "' && printf %s cli-secret | sha256sum | cut -d' ' -f1 | "
+                                   "sed 's/$/ carol user/' > tokens && printf %s other-secret | sha256sum | "
+                                   "cut -d' ' -f1 | sed 's/$/ dan user/' >> tokens";
+  ASSERT_EQ(std::system(hash_command.c_str()), 0);
+  const std::string token_file = write_file(dir.path, "token", "cli-secret\n");
+  const std::string wrong_file = write_file(dir.path, "wrong", "guessed\n");
+  DaemonProcess daemon(dir.path + "/data",
+                       {"--tls_cert=" + certs.server_cert, "--tls_key=" + certs.server_key, "--tokens_file=" + tokens},
+                       {}, {nullptr, "", /*connect=*/false});
+  const std::string server = "--server " + daemon.address() + " --tls-ca " + certs.ca + " ";
+  const auto scenario = write_file(dir.path, "small.textproto", kSmallScenario);
+
+  const auto submitted = cli(server + "--token-file " + token_file + " --json submit " + scenario + " --steps 5");
+  ASSERT_EQ(submitted.exit_code, 0) << submitted.out;
+  const auto listed = cli(server + "--token-file " + token_file + " --json list");
+  ASSERT_EQ(listed.exit_code, 0) << listed.out;
+  EXPECT_NE(listed.out.find("\"owner\":\"carol\""), std::string::npos) << listed.out;
+  setenv("LBSOLID_TOKEN", "other-secret", 1);  // dan's, from the environment: he sees none of carol's
+  const auto by_env = cli(server + "--json list");
+  unsetenv("LBSOLID_TOKEN");
+  ASSERT_EQ(by_env.exit_code, 0) << by_env.out;
+  EXPECT_EQ(by_env.out.find("carol"), std::string::npos) << by_env.out;
+
+  const auto missing = cli(server + "--json list");
+  EXPECT_EQ(missing.exit_code, 2) << missing.out;
+  EXPECT_NE(missing.out.find("UNAUTHENTICATED"), std::string::npos) << missing.out;
+  EXPECT_EQ(cli(server + "--token-file " + wrong_file + " list").exit_code, 2);
+  // Without --tls-ca the CLI speaks plaintext, which a TLS daemon does not answer: unreachable.
+  EXPECT_EQ(cli("--server " + daemon.address() + " --token-file " + token_file + " list").exit_code, 3);
 }
 
 }  // namespace
