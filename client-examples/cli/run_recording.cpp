@@ -12,6 +12,7 @@
 #include "message_format.h"
 #include "scenario_file.h"
 #include "server/api/scenario_translation.h"
+#include "server/recording/h5md_frames.h"
 #include "server/storage/field_snapshot.h"
 
 #ifndef LBSOLID_VERSION
@@ -29,18 +30,6 @@ using lbsolid::v1::ProfileFrame;
 constexpr const char* kParticlesFile = "particles.h5";
 constexpr const char* kFieldsFile = "fields.h5";
 constexpr const char* kStatusFile = "status.json";
-
-// The wire carries x, y, z per particle; the H5MD file has `dimension` values per particle.
-std::vector<double> per_dimension(const google::protobuf::RepeatedField<double>& xyz, int dimension) {
-  if (dimension == 3) return {xyz.begin(), xyz.end()};
-  std::vector<double> out;
-  out.reserve(xyz.size() / 3 * dimension);
-  for (int i = 0; i + 2 < xyz.size(); i += 3)
-    for (int axis = 0; axis < dimension; ++axis) out.push_back(xyz[i + axis]);
-  return out;
-}
-
-std::array<double, 3> array_of(const lbsolid::v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
 
 // Records the first failure and its exit code; later ones are appended to the message.
 struct Failures {
@@ -92,13 +81,10 @@ RunRecording::RunRecording(Daemon& daemon, const lbsolid::v1::Session& session,
   const bool want_particles = scenario.bodies_size() > 0, want_profiles = fluid_;
   if (!record_streams || !(want_particles || want_profiles)) return;
 
-  lbsolid::server::storage::H5mdBox box;
-  box.dimension = dimension_;
-  box.edges = box_edges(scenario);
-  box.periodic = periodic_axes(scenario);
   try {
     writer_ = std::make_unique<lbsolid::server::storage::H5mdWriter>(
-        (fs::path(dir_) / kParticlesFile).string(), LBSOLID_VERSION, lbsolid::server::scenario_to_text(scenario), box);
+        (fs::path(dir_) / kParticlesFile).string(), LBSOLID_VERSION, lbsolid::server::scenario_to_text(scenario),
+        lbsolid::server::recording::h5md_box(scenario));
   } catch (const std::exception& e) {
     throw CliError(kExitBadInput, e.what());
   }
@@ -114,12 +100,7 @@ RunRecording::RunRecording(Daemon& daemon, const lbsolid::v1::Session& session,
         },
         [this](const ParticleFrame& frame) {
           std::lock_guard lock(writer_mutex_);
-          for (const auto& body : frame.bodies()) {
-            writer_->append_particles(body.name(), frame.step(), per_dimension(body.position(), dimension_),
-                                      per_dimension(body.velocity(), dimension_));
-            writer_->append_body(body.name(), frame.step(), array_of(body.centre_of_mass()),
-                                 array_of(body.mean_velocity()));
-          }
+          lbsolid::server::recording::append_particle_frame(*writer_, frame, dimension_);
         });
   }
   if (want_profiles) {
@@ -133,8 +114,7 @@ RunRecording::RunRecording(Daemon& daemon, const lbsolid::v1::Session& session,
         },
         [this](const ProfileFrame& frame) {
           std::lock_guard lock(writer_mutex_);
-          writer_->append_profile(frame.step(), {frame.y().begin(), frame.y().end()},
-                                  {frame.u_x().begin(), frame.u_x().end()});
+          lbsolid::server::recording::append_profile_frame(*writer_, frame);
         });
   }
 }

@@ -7,17 +7,9 @@
 #include <sstream>
 
 #include "cli_error.h"
-#include "server/api/enum_mapping.h"
 #include "server/api/scenario_translation.h"
 
 namespace lbsolid::cli {
-namespace {
-
-bool periodic(const lbsolid::v1::Side& side) {
-  return side.kind() == lbsolid::v1::WALL_KIND_UNSPECIFIED || side.kind() == lbsolid::v1::WALL_KIND_PERIODIC;
-}
-
-}  // namespace
 
 lbsolid::v1::Scenario load_scenario(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -30,27 +22,6 @@ lbsolid::v1::Scenario load_scenario(const std::string& path) {
   if (!lbsolid::server::parse_scenario_text(text.str(), &scenario, &error))
     throw CliError(kExitBadInput, path + ": " + error);
   return scenario;
-}
-
-bool has_fluid(const lbsolid::v1::Scenario& s) { return !s.fluid().has_enabled() || s.fluid().enabled(); }
-
-int dimension(const lbsolid::v1::Scenario& s) { return s.lattice() == lbsolid::v1::LATTICE_D3Q19 ? 3 : 2; }
-
-std::array<double, 3> node_spacing(const lbsolid::v1::Scenario& s) {
-  const auto lattice = lbsolid::server::lattice_of(s.lattice());
-  return {1.0, lattice ? lbsolid::scene::lattice_row_spacing(*lattice) : 1.0, 1.0};
-}
-
-std::array<double, 3> box_edges(const lbsolid::v1::Scenario& s) {
-  const auto spacing = node_spacing(s);
-  const int nz = s.domain().has_nz() ? s.domain().nz() : 1;
-  return {s.domain().nx() * spacing[0], s.domain().ny() * spacing[1], nz * spacing[2]};
-}
-
-std::array<bool, 3> periodic_axes(const lbsolid::v1::Scenario& s) {
-  const auto& d = s.domain();
-  return {periodic(d.x_low()) && periodic(d.x_high()), periodic(d.y_low()) && periodic(d.y_high()),
-          periodic(d.z_low()) && periodic(d.z_high())};
 }
 
 }  // namespace lbsolid::cli

@@ -356,6 +356,41 @@ scene::MonitorSpec translate_stability(const v1::Stability& in, Problems& proble
   return check;
 }
 
+// Intervals above 2^40 steps would never be reached and could overflow the next frame's step.
+constexpr long kMaxOutputInterval = 1L << 40;
+
+OutputPlan translate_outputs(const v1::Scenario& in, const scene::Scene& scene, Problems& problems) {
+  const v1::Outputs& o = in.outputs();
+  OutputPlan plan;
+  const auto interval = [&](long value, const char* field) {
+    if (value < 0 || value > kMaxOutputInterval)
+      problems.push_back({std::string("scenario.outputs.") + field,
+                          "must lie in [0, 2^40] steps (0: none), got " + std::to_string(value)});
+    return std::clamp(value, 0L, kMaxOutputInterval);
+  };
+  plan.particles_every = interval(o.particles_every(), "particles_every");
+  plan.profile_every = interval(o.profile_every(), "profile_every");
+  plan.fields_every = interval(o.fields_every(), "fields_every");
+  plan.final_fields = o.final_fields();
+  plan.checkpoint_every = interval(o.checkpoint_every(), "checkpoint_every");
+  const bool fluid = scene.with_fluid;
+  if (!fluid && (plan.profile_every > 0 || plan.fields_every > 0 || plan.final_fields))
+    problems.push_back({"scenario.outputs", "velocity profiles and fields need a fluid (scenario.fluid.enabled)"});
+  if (plan.particles_every > 0 && in.bodies_size() == 0)
+    problems.push_back({"scenario.outputs.particles_every", "the scenario has no bodies"});
+  std::unordered_set<std::string> names;
+  for (const auto& body : in.bodies()) names.insert(body.name());
+  for (int k = 0; k < o.particle_bodies_size(); ++k) {
+    const std::string path = "scenario.outputs.particle_bodies[" + std::to_string(k) + "]";
+    check_name(o.particle_bodies(k), path, problems);
+    if (!names.count(o.particle_bodies(k))) problems.push_back({path, "no body of that name"});
+  }
+  if (o.particle_bodies_size() > 0 && plan.particles_every == 0)
+    problems.push_back({"scenario.outputs.particle_bodies", "set particles_every to record them"});
+  plan.particle_bodies.assign(o.particle_bodies().begin(), o.particle_bodies().end());
+  return plan;
+}
+
 // ---- The core's errors, on proto paths.
 
 Problem from_core(const std::string& message, const std::vector<int>& original) {
@@ -521,6 +556,7 @@ TranslatedScenario translate_scenario(const lbsolid::v1::Scenario& in) {
   }
   translate_contact_and_exchange(in, out.scene, problems);
   out.scene.monitor = translate_stability(in.stability(), problems);
+  out.outputs = translate_outputs(in, out.scene, problems);
   // With no lattice the core checks nothing but the lattice, which is already reported.
   if (lattice) add_core_problems(out.scene, core_can_check, problems);
   // The core repeats a message once per offending axis ("size: every extent must be at least 1").

@@ -14,8 +14,20 @@
 
 namespace lbsolid::server {
 
+// What the daemon records for a session (lbsolid.v1.Outputs, checked): intervals in steps, 0 for none.
+struct OutputPlan {
+  long particles_every = 0;
+  std::vector<std::string> particle_bodies;  // names; empty: every body
+  long profile_every = 0;
+  long fields_every = 0;
+  bool final_fields = false;
+  long checkpoint_every = 0;
+  bool records_frames() const { return particles_every > 0 || profile_every > 0 || fields_every > 0 || final_fields; }
+};
+
 struct TranslatedScenario {
   scene::Scene scene;
+  OutputPlan outputs;
   // Every problem, empty when the scene can be built; a client is sent error_summary(errors)
   // (server/api/error_summary.h), which fits in a gRPC status however many there are.
   std::vector<std::string> errors;

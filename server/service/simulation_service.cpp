@@ -7,6 +7,10 @@
 #include <chrono>
 #include <cstring>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include "absl/strings/str_cat.h"
 #include "server/api/error_summary.h"
 #include "server/api/log_text.h"
@@ -326,6 +330,83 @@ grpc::Status SimulationService::GetField(grpc::ServerContext* context, const v1:
     }
   }
   return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::ListOutputs(grpc::ServerContext* context, const v1::ListOutputsRequest* request,
+                                            v1::ListOutputsResponse* response) {
+  const auto caller = caller_of(*context, *authenticator_);
+  if (!caller.ok()) return to_grpc(caller.status());
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  auto session = manager_.find(request->session_id(), *caller);
+  if (!session.ok()) return to_grpc(session.status());
+  *response->mutable_session() = (*session)->describe(/*with_scenario=*/false);
+  auto files = manager_.outputs(request->session_id(), *caller);
+  if (!files.ok()) return to_grpc(files.status());
+  for (const auto& file : *files) {
+    auto* out = response->add_files();
+    out->set_name(file.name);
+    out->set_bytes(file.bytes);
+    out->set_sha256(file.sha256);
+  }
+  return grpc::Status::OK;
+}
+
+grpc::Status SimulationService::DownloadOutput(grpc::ServerContext* context, const v1::DownloadOutputRequest* request,
+                                               grpc::ServerWriter<v1::OutputChunk>* writer) {
+  const auto caller = caller_of(*context, *authenticator_);
+  if (!caller.ok()) return to_grpc(caller.status());
+  if (auto s = require_id(request->session_id()); !s.ok()) return s;
+  if (request->name().empty()) return invalid("name: required (ListOutputs names the files)");
+  const long chunk = request->chunk_bytes() == 0 ? kDefaultChunkBytes : request->chunk_bytes();
+  if (chunk < kMinChunkBytes || chunk > kMaxChunkBytes)
+    return invalid(absl::StrCat("chunk_bytes: must lie in [", kMinChunkBytes, ", ", kMaxChunkBytes, "], got ",
+                                request->chunk_bytes()));
+  auto files = manager_.outputs(request->session_id(), *caller);
+  if (!files.ok()) return to_grpc(files.status());
+  const auto file = std::find_if(files->begin(), files->end(), [&](const auto& f) { return f.name == request->name(); });
+  if (file == files->end())
+    return grpc::Status(grpc::StatusCode::NOT_FOUND,
+                        absl::StrCat("name: session ", request->session_id(), " has no output \"",
+                                     log_text(request->name(), 100), "\" (ListOutputs names them)"));
+  if (!request->sha256().empty() && request->sha256() != file->sha256)
+    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                        absl::StrCat("sha256: ", file->name, " changed since that version (the session ran on); ",
+                                     "download it again from offset 0"));
+  if (request->offset() < 0 || request->offset() > file->bytes)
+    return grpc::Status(grpc::StatusCode::OUT_OF_RANGE, absl::StrCat("offset: must lie in [0, ", file->bytes,
+                                                                      "] for ", file->name, ", got ", request->offset()));
+  // Opened once: a newer version renamed over it later does not change what this stream sends.
+  const int fd = ::open(file->path.c_str(), O_RDONLY | O_CLOEXEC);
+  struct stat info {};
+  if (fd < 0 || ::fstat(fd, &info) != 0 || info.st_ino != file->inode) {
+    if (fd >= 0) ::close(fd);
+    return grpc::Status(grpc::StatusCode::ABORTED, absl::StrCat(file->name, ": replaced by a newer version while ",
+                                                                "being opened; list the outputs again"));
+  }
+  std::string buffer(static_cast<std::size_t>(chunk), '\0');
+  grpc::Status status = grpc::Status::OK;
+  v1::OutputChunk message;
+  message.mutable_file()->set_name(file->name);
+  message.mutable_file()->set_bytes(file->bytes);
+  message.mutable_file()->set_sha256(file->sha256);
+  for (long long offset = request->offset();;) {
+    const ssize_t n = ::pread(fd, buffer.data(), buffer.size(), offset);
+    if (n < 0) {
+      status = grpc::Status(grpc::StatusCode::UNAVAILABLE, absl::StrCat(file->name, ": cannot read: ", std::strerror(errno)));
+      break;
+    }
+    message.set_offset(offset);
+    message.set_data(buffer.data(), static_cast<std::size_t>(n));
+    if (context->IsCancelled() || !writer->Write(message)) {
+      status = grpc::Status(grpc::StatusCode::CANCELLED, "the stream was cancelled");
+      break;
+    }
+    offset += n;
+    if (n == 0 || offset >= file->bytes) break;
+    message.clear_file();
+  }
+  ::close(fd);
+  return status;
 }
 
 grpc::Status SimulationService::Checkpoint(grpc::ServerContext* context, const v1::CheckpointRequest* request,

@@ -55,6 +55,9 @@ Session::Session(SessionSetup setup, std::shared_ptr<parallel::ThreadPool> fluid
       request_id_(std::move(setup.request_id)),
       owner_(std::move(setup.owner)),
       scenario_(std::move(setup.scenario)),
+      output_plan_(setup.translated.outputs),
+      outputs_dir_(std::move(setup.outputs_dir)),
+      writer_version_(std::move(setup.writer_version)),
       created_unix_ms_(setup.created_unix_ms),
       warnings_(setup.translated.warnings),
       sim_(scene::build_simulation(setup.translated.scene, std::move(fluid_pool))) {
@@ -214,13 +217,17 @@ void Session::close() {
   close_streams_locked();
 }
 
-void Session::fail(long step, const std::string& cause) {
-  std::lock_guard lock(mutex_);
-  const std::string message = absl::StrCat("step ", step, ": ", cause);
+void Session::emit_error_locked(long step, const std::string& message) {
   v1::SessionEvent event;
   event.mutable_error()->set_step(step);
   event.mutable_error()->set_message(message);
   emit_locked(event);
+}
+
+void Session::fail(long step, const std::string& cause) {
+  std::lock_guard lock(mutex_);
+  const std::string message = absl::StrCat("step ", step, ": ", cause);
+  emit_error_locked(step, message);
   set_state_locked(v1::SESSION_STATE_FAILED, message);
 }
 
@@ -259,7 +266,72 @@ bool Session::step_once() {
   step_ = sim_->step_count();
   refresh_sizes();
   if (has_frame_watchers_ && step_ >= next_frame_step_) publish_frames(step_);
+  return record_outputs();
+}
+
+bool Session::record_outputs() {
+  if (!recorder_) return true;
+  const long step = sim_->step_count();
+  const bool target_reached = step == target_;
+  if (!recorder_->anything_due(step, target_reached)) return true;
+  try {
+    if (recorder_->particles_due(step)) recorder_->record_particles(particle_frame(recorded_bodies_));
+    if (recorder_->profile_due(step)) recorder_->record_profile(profile_frame());
+    if (recorder_->fields_due(step, target_reached))
+      recorder_->record_fields(step, sim_->fluid_fields(), {1.0, scene::lattice_row_spacing(sim_->scene().lattice), 1.0});
+  } catch (const std::exception& e) {
+    stop_for_outputs(step, e.what());
+    return false;
+  }
   return true;
+}
+
+void Session::stop_for_outputs(long step, const std::string& cause) {
+  std::lock_guard lock(mutex_);
+  const std::string message = absl::StrCat("step ", step, ": outputs: cannot record (Resume tries again): ", cause);
+  emit_error_locked(step, message);
+  if (state_ == v1::SESSION_STATE_RUNNING) set_state_locked(v1::SESSION_STATE_PAUSED, message);
+}
+
+void Session::open_outputs() {
+  if (!output_plan_.records_frames() || outputs_dir_.empty()) return;
+  const auto sim_lock = lock_simulation();
+  if (const auto* solid = sim_->solid()) {
+    for (int b = 0; b < solid->body_count(); ++b) {
+      const auto& name = solid->body(b).name;
+      const auto& wanted = output_plan_.particle_bodies;
+      if (wanted.empty() || std::find(wanted.begin(), wanted.end(), name) != wanted.end()) recorded_bodies_.push_back(b);
+    }
+  }
+  recorder_ = std::make_unique<OutputRecorder>(outputs_dir_, output_plan_, scenario_, writer_version_,
+                                               sim_->step_count());
+}
+
+void Session::sync_outputs() const {
+  // The log's own lock orders this against the appends; fsync needs no simulation lock.
+  if (recorder_) recorder_->sync();
+}
+
+absl::StatusOr<std::vector<OutputFile>> Session::outputs(const std::string& checkpoint_dir) {
+  std::vector<OutputFile> files;
+  if (recorder_) {
+    auto made = recorder_->files();
+    if (!made.ok()) return made.status();
+    files = *std::move(made);
+  }
+  std::lock_guard lock(checkpoint_files_mutex_);
+  try {
+    for (auto& checkpoint : list_checkpoints(checkpoint_dir, checkpoint_files_)) files.push_back(std::move(checkpoint));
+  } catch (const std::exception& e) {
+    return absl::UnavailableError(absl::StrCat("outputs: cannot list the checkpoints: ", e.what()));
+  }
+  return files;
+}
+
+bool Session::auto_checkpoint_due() const {
+  const long every = output_plan_.checkpoint_every;
+  const long step = step_;
+  return every > 0 && step > 0 && step % every == 0 && step > last_auto_checkpoint_;
 }
 
 std::unique_lock<std::mutex> Session::lock_simulation() const {
@@ -280,6 +352,7 @@ void Session::advance(std::chrono::milliseconds slice) {
   // simulation lock, so field reads, checkpoints, pauses and other streams go on meanwhile.
   if (has_frame_watchers_ && !wait_for_lossless_clients(slice)) return;
   std::lock_guard sim_lock(sim_mutex_);
+  if (!record_outputs()) return;  // what is due at the current step: first frames, or a failed write
   const auto start = Clock::now();
   long taken = 0;
   // The checks between steps read atomics only: the session's mutex is shared with the calls,
@@ -289,6 +362,7 @@ void Session::advance(std::chrono::milliseconds slice) {
     ++taken;
     if (Clock::now() - start >= slice || readers_waiting_ > 0) break;
     if (lossless_watcher_behind()) break;
+    if (auto_checkpoint_due()) break;  // the worker takes it now, at this step
   }
   record_rate(taken, Clock::now() - start);
   emit_progress();
@@ -312,6 +386,7 @@ absl::StatusOr<StepResult> Session::step_now(long steps, std::chrono::system_clo
     stepping_ = true;  // Run and Resume are refused until this call returns
   }
   StepResult result;
+  record_outputs();  // what is due at the current step (a failure is in the session's events)
   auto longest_step = std::chrono::system_clock::duration::zero();
   // Room for the answer to reach the client before its deadline, on a loaded machine too.
   const auto margin = std::chrono::milliseconds(50);
@@ -594,6 +669,7 @@ void Session::restore(const scene::SimulationState& state, long target_step, v1:
   refresh_sizes();
   std::lock_guard lock(mutex_);
   step_ = sim_->step_count();
+  last_auto_checkpoint_ = step_.load();
   target_ = target_step;
   state_ = session_state;
   runnable_ = !closed_ && session_state == v1::SESSION_STATE_RUNNING;

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -23,6 +24,7 @@
 #include "server/api/scenario_translation.h"
 #include "server/session/event_channel.h"
 #include "server/session/frame_channel.h"
+#include "server/session/output_recorder.h"
 #include "server/storage/checkpoint_file.h"
 
 namespace lbsolid::server {
@@ -36,6 +38,9 @@ struct SessionSetup {
   TranslatedScenario translated;  // must be ok()
   long long created_unix_ms = 0;
   std::string owner;  // the identity it belongs to (server/auth/identity.h)
+  // Where scenario.outputs are recorded (output_recorder.h), and the writer named in them.
+  std::string outputs_dir;
+  std::string writer_version;
 };
 
 struct FieldData {
@@ -108,6 +113,19 @@ class Session {
   // The session is deleted or the daemon stops: every stream ends, the worker leaves it.
   void close();
 
+  // Recording (scenario.outputs): opens the session's frame log, keeping what it holds through the
+  // current step (call once, after restore() for a session that continues). Throws
+  // std::runtime_error naming the path. Without outputs in the scenario it does nothing.
+  void open_outputs();
+  // Every frame recorded so far is durable (a save is about to claim the step it copied).
+  void sync_outputs() const;
+  // What ListOutputs shows: the recorded files, made as of now, then the checkpoints in checkpoint_dir.
+  absl::StatusOr<std::vector<OutputFile>> outputs(const std::string& checkpoint_dir);
+  // scenario.outputs.checkpoint_every: a worker's slice ends at each multiple, and the worker then
+  // takes the checkpoint and says so.
+  bool auto_checkpoint_due() const;
+  void auto_checkpoint_taken(long step) { last_auto_checkpoint_ = step; }
+
   // Writes of this session's files (checkpoints, saves) happen one at a time under this lock.
   std::unique_lock<std::mutex> lock_saves() const { return std::unique_lock(saves_mutex_); }
   std::mutex& saves_mutex() const { return saves_mutex_; }
@@ -135,6 +153,7 @@ class Session {
   void refresh_sizes();
   void set_state_locked(v1::SessionState next, const std::string& message = {});
   void emit_locked(v1::SessionEvent event);
+  void emit_error_locked(long step, const std::string& message);
   void close_streams_locked();
   void refresh_watch_flags_locked();
   // One step with what follows it: frames to due watchers, the stability check. False if the
@@ -155,6 +174,10 @@ class Session {
   v1::ProfileFrame profile_frame() const;
   v1::ParticleFrame particle_frame(const std::vector<int>& bodies) const;
   void fail(long step, const std::string& cause);
+  // Under the simulation lock: records what scenario.outputs wants at the current step. False if a
+  // write failed: the session is then PAUSED with the cause (Resume records it again).
+  bool record_outputs();
+  void stop_for_outputs(long step, const std::string& cause);
   void record_rate(long steps, Clock::duration elapsed);
   void emit_progress();
 
@@ -162,6 +185,9 @@ class Session {
   const std::string request_id_;
   const std::string owner_;
   const v1::Scenario scenario_;
+  const OutputPlan output_plan_;
+  const std::string outputs_dir_;
+  const std::string writer_version_;
   const long long created_unix_ms_;
   const std::vector<std::string> warnings_;
 
@@ -176,6 +202,11 @@ class Session {
   mutable std::condition_variable reader_entered_;
   mutable std::mutex sim_mutex_;
   std::unique_ptr<scene::Simulation> sim_;
+  std::unique_ptr<OutputRecorder> recorder_;  // used under sim_mutex_, set once by open_outputs()
+  std::vector<int> recorded_bodies_;
+  std::atomic<long> last_auto_checkpoint_{0};
+  std::mutex checkpoint_files_mutex_;
+  std::map<std::string, OutputFile> checkpoint_files_;  // their SHA-256, computed once
 
   mutable std::mutex saves_mutex_;
   mutable std::mutex snapshots_mutex_;  // taken before sim_mutex_, never inside it

@@ -164,10 +164,13 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::add(const v1::Scenario&
   try {
     // Translated and validated here, at the caller's priority; built (allocated, initialised)
     // on the builder.
-    SessionSetup setup{new_session_id(), request_id, scenario, translate_scenario(scenario), unix_ms_now(), owner};
+    const std::string id = new_session_id();
+    SessionSetup setup{id,     request_id, scenario, translate_scenario(scenario), unix_ms_now(), owner,
+                       store_.outputs_dir(id), store_.writer().version};
     session = builder_.run([&] { return build(std::move(setup)); });
     if (session.ok())
       if (auto prepared = prepare(**session); !prepared.ok()) session = prepared;
+    if (session.ok()) (*session)->open_outputs();
   } catch (const std::bad_alloc&) {
     session = absl::ResourceExhaustedError("scenario: not enough memory on the daemon for this scenario");
   } catch (const std::exception& e) {
@@ -254,6 +257,7 @@ absl::Status SessionManager::remove(const std::string& id, const auth::Identity&
     footprints_.erase(id);
   }
   store_.forget(*session);
+  store_.forget_outputs(*session);
   spdlog::info("session {}: deleted", id);
   return absl::OkStatus();
 }
@@ -334,6 +338,9 @@ void SessionManager::work() {
       session = dequeue_locked();
     }
     session->advance(kSlice);
+    if (session->auto_checkpoint_due()) {  // the slice ended at a multiple of outputs.checkpoint_every
+      if (const auto taken = store_.checkpoint(*session); taken.ok()) session->auto_checkpoint_taken(taken->step);
+    }
     const bool more = session->finish_slice();
     settle(*session);
     if (session->progress_note_due()) store_.note_progress(*session, session->describe().step());
@@ -358,7 +365,13 @@ void SessionManager::stop_workers() {
   workers_.clear();
 }
 
-// ---- checkpoints ---------------------------------------------------------------------------
+// ---- checkpoints and outputs ---------------------------------------------------------------
+
+absl::StatusOr<std::vector<OutputFile>> SessionManager::outputs(const std::string& id, const auth::Identity& caller) {
+  auto session = find(id, caller);
+  if (!session.ok()) return session.status();
+  return (*session)->outputs(store_.checkpoint_dir(id));
+}
 
 absl::StatusOr<CheckpointInfo> SessionManager::checkpoint(const std::string& id, const auth::Identity& caller) {
   auto session = find(id, caller);
@@ -483,8 +496,9 @@ int SessionManager::recover() {
       spdlog::error("session {}: not recovered: its owner {}", contents.session_id, problem);
       continue;
     }
-    auto session = build(
-        {contents.session_id, contents.request_id, scenario, translate_scenario(scenario), unix_ms_now(), contents.owner});
+    auto session = build({contents.session_id, contents.request_id, scenario, translate_scenario(scenario),
+                          unix_ms_now(), contents.owner, store_.outputs_dir(contents.session_id),
+                          store_.writer().version});
     if (!session.ok()) {
       spdlog::error("session {}: not recovered: {}", contents.session_id, log_text(std::string(session.status().message()), 1000));
       continue;
@@ -496,6 +510,12 @@ int SessionManager::recover() {
       continue;
     }
     (*session)->set_steps_lost(saved.steps_lost);
+    try {
+      (*session)->open_outputs();  // the frames past the save are dropped: they are recorded again
+    } catch (const std::exception& e) {
+      spdlog::error("session {}: recovered, but its outputs are not recorded: {}", contents.session_id,
+                    log_text(e.what(), 1000));
+    }
     {
       std::lock_guard lock(mutex_);
       const Footprint footprint = estimate_footprint(scenario);  // counted even past the limits

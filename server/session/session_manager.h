@@ -90,6 +90,8 @@ class SessionManager {
   void settle(const Session& session);
 
   absl::StatusOr<CheckpointInfo> checkpoint(const std::string& id, const auth::Identity& caller);
+  // What the session recorded (scenario.outputs) and its checkpoints, made as of now.
+  absl::StatusOr<std::vector<OutputFile>> outputs(const std::string& id, const auth::Identity& caller);
   // A checkpoint of a session the caller may act on; the new session belongs to the checkpoint's owner.
   absl::StatusOr<std::shared_ptr<Session>> restore(const std::string& checkpoint_id, const std::string& request_id,
                                                    const auth::Identity& caller);

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
+#include <vector>
 #include <fstream>
 
 #include "absl/strings/numbers.h"
@@ -36,6 +37,7 @@ SessionStore::SessionStore(std::string data_dir, storage::WriterInfo writer)
     : data_dir_(std::move(data_dir)), writer_(std::move(writer)) {
   fs::create_directories(fs::path(data_dir_) / "sessions");
   fs::create_directories(fs::path(data_dir_) / "checkpoints");
+  fs::create_directories(fs::path(data_dir_) / "outputs");
   remove_partial_writes();
 }
 
@@ -44,14 +46,36 @@ std::string SessionStore::session_dir(const std::string& id) const {
   return (fs::path(data_dir_) / "sessions" / id).string();
 }
 
+std::string SessionStore::outputs_dir(const std::string& id) const {
+  if (!valid_session_id(id)) throw std::logic_error("invalid session id reached the store");
+  return (fs::path(data_dir_) / "outputs" / id).string();
+}
+
+std::string SessionStore::checkpoint_dir(const std::string& id) const {
+  if (!valid_session_id(id)) throw std::logic_error("invalid session id reached the store");
+  return (fs::path(data_dir_) / "checkpoints" / id).string();
+}
+
+void SessionStore::forget_outputs(const Session& session) const {
+  std::error_code ignored;
+  fs::remove_all(outputs_dir(session.id()), ignored);
+}
+
 // Every file is written as <file>.tmp-<unique> and renamed; a daemon killed mid-write leaves the
 // temporary file behind (the old file is intact). Nothing else writes such names: remove them.
+// Outputs are made in outputs/<id>/.build-<n>/ and renamed out of it: such a directory is one too.
 void SessionStore::remove_partial_writes() const {
+  std::vector<fs::path> partial;
   for (const auto& entry : fs::recursive_directory_iterator(data_dir_)) {
-    if (!entry.is_regular_file() || entry.path().filename().string().find(".tmp-") == std::string::npos) continue;
+    const std::string name = entry.path().filename().string();
+    if ((entry.is_regular_file() && name.find(".tmp-") != std::string::npos) ||
+        (entry.is_directory() && name.starts_with(".build-")))
+      partial.push_back(entry.path());
+  }
+  for (const auto& path : partial) {
     std::error_code ignored;
-    fs::remove(entry.path(), ignored);
-    spdlog::warn("removed {}: a write interrupted by an earlier daemon", log_text(entry.path().string(), 500));
+    fs::remove_all(path, ignored);
+    spdlog::warn("removed {}: a write interrupted by an earlier daemon", log_text(path.string(), 500));
   }
 }
 
@@ -99,6 +123,7 @@ absl::StatusOr<long> SessionStore::save(const Session& session) const {
   }
   const auto contents = session.checkpoint_contents();  // a copy, under the simulation lock
   try {
+    session.sync_outputs();  // the frames through the saved step are on disk first
     fs::create_directories(dir);
     storage::write_checkpoint((dir / kSavedFile).string(), contents, writer_);
   } catch (const std::exception& e) {

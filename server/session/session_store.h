@@ -3,6 +3,8 @@
 //   checkpoints/<session id>/step-<step>.h5   taken by Checkpoint calls (kept after deletion)
 //   sessions/<session id>/session.h5          the session's last save (autosave, shutdown)
 //   sessions/<session id>/progress            the last step a worker reached ("steps lost")
+//   outputs/<session id>/                     what scenario.outputs records (output_recorder.h),
+//                                             kept until the session is deleted
 // Every file is written to a temporary file of its own, fsync'ed and renamed (storage/). Writes
 // of one session are serialised (Session::lock_saves). Paths are built only from validated ids.
 #include <string>
@@ -44,6 +46,10 @@ class SessionStore {
   absl::StatusOr<long> save(const Session& session) const;
   // Removes the session's saved state (deleted, failed or cancelled): it never comes back.
   void forget(const Session& session) const;
+  // Removes what the session recorded (it is deleted).
+  void forget_outputs(const Session& session) const;
+  std::string outputs_dir(const std::string& id) const;
+  std::string checkpoint_dir(const std::string& id) const;
   // Records that the session reached `step` (cheap; for the steps-lost figure after a crash).
   void note_progress(const Session& session, long step) const;
 

@@ -410,6 +410,32 @@ TEST(ScenarioTranslation, StabilityLimits) {
                 "scenario.stability.max_density: must be above 1 (a multiple of rho0; infinity for none), got 0.5"}));
 }
 
+TEST(ScenarioTranslation, OutputsAreCheckedOnTheirPaths) {
+  const std::string disk = R"(bodies { name: "disk" shape: BODY_SHAPE_DISK radius: 2 centre { x: 8 y: 4 } })";
+  const auto good = translate_scenario(parse(channel_with(
+      disk + R"(outputs { particles_every: 10 particle_bodies: "disk" profile_every: 5 final_fields: true
+                          checkpoint_every: 1000 })")));
+  ASSERT_TRUE(good.ok()) << listed(good.errors);
+  EXPECT_EQ(good.outputs.particles_every, 10);
+  EXPECT_EQ(good.outputs.particle_bodies, std::vector<std::string>{"disk"});
+  EXPECT_EQ(good.outputs.profile_every, 5);
+  EXPECT_TRUE(good.outputs.final_fields);
+  EXPECT_EQ(good.outputs.checkpoint_every, 1000);
+  EXPECT_TRUE(translate_scenario(parse(kChannel)).ok());  // no outputs: nothing recorded, nothing to check
+  EXPECT_FALSE(translate_scenario(parse(kChannel)).outputs.records_frames());
+
+  const auto errors = errors_of(channel_with(
+      disk + R"(outputs { particles_every: -1 particle_bodies: "plate" fields_every: 1099511627777 })"));
+  EXPECT_ERROR(errors, "scenario.outputs.particles_every: must lie in [0, 2^40] steps (0: none), got -1");
+  EXPECT_ERROR(errors, "scenario.outputs.fields_every: must lie in [0, 2^40]");
+  EXPECT_ERROR(errors, "scenario.outputs.particle_bodies[0]: no body of that name");
+  EXPECT_ERROR(errors, "scenario.outputs.particle_bodies: set particles_every to record them");
+  EXPECT_ERROR(errors_of(channel_with("fluid { enabled: false } outputs { profile_every: 10 }")),
+               "scenario.outputs: velocity profiles and fields need a fluid");
+  EXPECT_ERROR(errors_of(channel_with("outputs { particles_every: 10 }")),
+               "scenario.outputs.particles_every: the scenario has no bodies");
+}
+
 TEST(ScenarioTranslation, EveryErrorIsReportedTogether) {
   const auto errors = errors_of(channel_with(R"(
     fluid { omega: 2.5 rho0: -1 }

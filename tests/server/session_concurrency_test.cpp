@@ -29,7 +29,7 @@ v1::Scenario slow_scenario() { return small_channel_with_disk(192, 160); }
 
 std::shared_ptr<Session> make_session(const v1::Scenario& scenario = slow_scenario()) {
   return std::make_shared<Session>(
-      server::SessionSetup{"s-test", "", scenario, server::translate_scenario(scenario), 0, "local"});
+      server::SessionSetup{"s-test", "", scenario, server::translate_scenario(scenario), 0, "local", "", ""});
 }
 
 // Waits until the session has taken at least one step since `from`.

@@ -9,6 +9,7 @@
 
 #include "server/auth/authenticator.h"
 #include "server/auth/token_table.h"
+#include "service/coreutils_sha256.h"
 #include "service/daemon_process.h"
 
 namespace lbsolid::testing {
@@ -19,32 +20,21 @@ using server::auth::parse_tokens;
 using server::auth::Role;
 using server::auth::TokenTable;
 
-// sha256sum of `text`, by coreutils.
-std::string sha256sum(const std::string& text) {
-  const ScopedDirectory dir("lbsolid-sha");
-  { std::ofstream(dir.path + "/in", std::ios::binary) << text; }
-  const std::string command = "sha256sum '" + dir.path + "/in' > '" + dir.path + "/out'";
-  if (std::system(command.c_str()) != 0) return "";
-  std::ifstream in(dir.path + "/out");
-  std::string hash;
-  in >> hash;
-  return hash;
-}
 
 TEST(TokenTable, MapsTheHashOfATokenToItsOwnerAndRole) {
-  const std::string text = "# owners\n\n" + sha256sum("alice-secret") + " alice user\n" + sha256sum("root-secret") +
+  const std::string text = "# owners\n\n" + coreutils_sha256("alice-secret") + " alice user\n" + coreutils_sha256("root-secret") +
                            "   ops.admin@site   admin\n";
   const auto tokens = parse_tokens(text);
   ASSERT_TRUE(tokens.ok()) << tokens.status();
   ASSERT_EQ(tokens->size(), 2u);
-  EXPECT_EQ(tokens->at(sha256sum("alice-secret")).owner, "alice");
-  EXPECT_EQ(tokens->at(sha256sum("alice-secret")).role, Role::kUser);
-  EXPECT_EQ(tokens->at(sha256sum("root-secret")).owner, "ops.admin@site");
-  EXPECT_EQ(tokens->at(sha256sum("root-secret")).role, Role::kAdmin);
+  EXPECT_EQ(tokens->at(coreutils_sha256("alice-secret")).owner, "alice");
+  EXPECT_EQ(tokens->at(coreutils_sha256("alice-secret")).role, Role::kUser);
+  EXPECT_EQ(tokens->at(coreutils_sha256("root-secret")).owner, "ops.admin@site");
+  EXPECT_EQ(tokens->at(coreutils_sha256("root-secret")).role, Role::kAdmin);
 }
 
 TEST(TokenTable, EachMalformedLineIsNamedWithItsReason) {
-  const std::string hash = sha256sum("t");
+  const std::string hash = coreutils_sha256("t");
   const struct {
     std::string text, expected;
   } cases[] = {
@@ -65,7 +55,7 @@ TEST(TokenTable, EachMalformedLineIsNamedWithItsReason) {
 TEST(TokenTable, AFailedReloadKeepsTheTokensInForce) {
   const ScopedDirectory dir("lbsolid-tokens");
   const std::string path = dir.path + "/tokens";
-  std::ofstream(path) << sha256sum("alice-secret") << " alice user\n";
+  std::ofstream(path) << coreutils_sha256("alice-secret") << " alice user\n";
   TokenTable table(path);
   ASSERT_TRUE(table.find("alice-secret"));
   std::ofstream(path) << "garbage\n";
@@ -73,7 +63,7 @@ TEST(TokenTable, AFailedReloadKeepsTheTokensInForce) {
   EXPECT_FALSE(reloaded.ok());
   EXPECT_NE(std::string(reloaded.message()).find(path), std::string::npos) << reloaded;
   ASSERT_TRUE(table.find("alice-secret"));  // still in force
-  std::ofstream(path) << sha256sum("bob-secret") << " bob user\n";
+  std::ofstream(path) << coreutils_sha256("bob-secret") << " bob user\n";
   ASSERT_TRUE(table.reload().ok());
   EXPECT_FALSE(table.find("alice-secret"));  // revoked
   ASSERT_TRUE(table.find("bob-secret"));
@@ -84,7 +74,7 @@ TEST(TokenTable, AFailedReloadKeepsTheTokensInForce) {
 TEST(Authenticator, RefusesMissingWrongAndMalformedCredentialsWithoutEchoingThem) {
   const ScopedDirectory dir("lbsolid-tokens");
   const std::string path = dir.path + "/tokens";
-  std::ofstream(path) << sha256sum("alice-secret") << " alice user\n";
+  std::ofstream(path) << coreutils_sha256("alice-secret") << " alice user\n";
   const Authenticator authenticator(std::make_shared<TokenTable>(path), /*client_certificates=*/false);
   ASSERT_TRUE(authenticator.authenticates());
   const auto alice = authenticator.identify("Bearer alice-secret", "");

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <thread>
 
+#include "service/coreutils_sha256.h"
 #include "service/daemon_process.h"
 #include "service/test_certificates.h"
 #include "service/test_scenarios.h"
@@ -21,14 +22,7 @@ using namespace std::chrono_literals;
 
 // Tokens and the lines of a tokens file for them (hashes by coreutils' sha256sum).
 std::string token_line(const std::string& token, const std::string& owner, const std::string& role) {
-  const ScopedDirectory dir("lbsolid-sha");
-  { std::ofstream(dir.path + "/in", std::ios::binary) << token; }
-  const std::string command = "sha256sum '" + dir.path + "/in' > '" + dir.path + "/out'";
-  if (std::system(command.c_str()) != 0) throw std::runtime_error("sha256sum failed");
-  std::ifstream in(dir.path + "/out");
-  std::string hash;
-  in >> hash;
-  return hash + " " + owner + " " + role + "\n";
+  return coreutils_sha256(token) + " " + owner + " " + role + "\n";
 }
 
 // What a client brings: the CA it trusts, and a bearer token or a client certificate.
@@ -264,6 +258,16 @@ TEST_F(RemoteAccess, NoRpcLetsOneUserSeeOrTouchAnothersSession) {
     r.set_session_id(id);
     v1::DeleteSessionResponse s;
     EXPECT_TRUE(not_found(as_bob->DeleteSession(deadline_context().get(), r, &s)));
+  }
+  {
+    v1::ListOutputsRequest r;
+    r.set_session_id(id);
+    v1::ListOutputsResponse s;
+    EXPECT_TRUE(not_found(as_bob->ListOutputs(deadline_context().get(), r, &s)));
+    std::string bytes;
+    v1::OutputFile file;
+    EXPECT_TRUE(not_found(download_output(*as_bob, id, "checkpoints/step-000000000.h5", 0, "", &bytes, &file)));
+    EXPECT_TRUE(bytes.empty());
   }
   v1::WatchSessionRequest watch;
   watch.set_session_id(id);

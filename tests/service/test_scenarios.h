@@ -195,6 +195,42 @@ inline grpc::Status health_check(const std::shared_ptr<grpc::Channel>& channel, 
   return status;
 }
 
+// DownloadOutput of `name` from `offset` into *bytes (appended); *file gets the first message's
+// description. With max_chunks >= 0 the client leaves after that many chunks (an interrupted
+// download), and the answer is OK if it read them.
+inline grpc::Status download_output(v1::Simulation::Stub& stub, const std::string& id, const std::string& name,
+                                    long offset, const std::string& sha256, std::string* bytes, v1::OutputFile* file,
+                                    long chunk_bytes = 0, int max_chunks = -1) {
+  v1::DownloadOutputRequest request;
+  request.set_session_id(id);
+  request.set_name(name);
+  request.set_offset(offset);
+  request.set_sha256(sha256);
+  request.set_chunk_bytes(chunk_bytes);
+  auto context = deadline_context(30);
+  auto reader = stub.DownloadOutput(context.get(), request);
+  v1::OutputChunk chunk;
+  int chunks = 0;
+  long next = offset;  // where the next chunk must start: the chunks cover the file in order
+  while (reader->Read(&chunk)) {
+    if (chunk.has_file()) *file = chunk.file();
+    if (chunk.offset() != next) {
+      context->TryCancel();
+      reader->Finish();
+      return grpc::Status(grpc::StatusCode::INTERNAL, "a chunk at offset " + std::to_string(chunk.offset()) +
+                                                          ", expected " + std::to_string(next));
+    }
+    bytes->append(chunk.data());
+    next += static_cast<long>(chunk.data().size());
+    if (max_chunks >= 0 && ++chunks >= max_chunks) {
+      context->TryCancel();
+      reader->Finish();
+      return grpc::Status::OK;
+    }
+  }
+  return reader->Finish();
+}
+
 inline grpc::Status resume(v1::Simulation::Stub& stub, const std::string& id, v1::Session* out) {
   v1::ResumeRequest request;
   request.set_session_id(id);
