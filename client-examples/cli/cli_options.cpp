@@ -71,7 +71,9 @@ const std::vector<CommandSpec>& command_specs() {
        {{"profiles", false}, {"particles", false}, {"every", true}, {"lossless", false}, {"frames", true}},
        "--profiles|--particles [--every N] [--lossless] [--frames K]",
        "print one line per frame of a session's profiles or particles"},
-      {"fetch", {"ID"}, {{"out", true}}, "--out DIR", "append the current density and velocity to DIR/fields.h5"},
+      {"fetch", {"ID"}, {{"out", true}, {"now", false}}, "--out DIR [--now]",
+       "copy what the daemon recorded for the session and its checkpoints into DIR (--now: append the "
+       "current density and velocity to DIR/fields.h5 instead)"},
   };
   return specs;
 }
@@ -198,9 +200,12 @@ std::string usage_text() {
   text +=
       "\nsubmit details:\n"
       "  --wait              follow the run to DONE, FAILED or CANCELLED (progress on stderr)\n"
-      "  --out DIR           implies --wait; records DIR/particles.h5 (H5MD: particles and velocity\n"
-      "                      profiles, lossless), DIR/fields.h5 + fields.xdmf (final fields) and\n"
-      "                      DIR/status.json (state, files with sizes and SHA-256, checksum)\n"
+      "  --out DIR           implies --wait; the daemon records the run (scenario.outputs, unless the\n"
+      "                      file declares its own: particles and velocity profiles at the frame\n"
+      "                      intervals, the final fields); then DIR/particles.h5 (H5MD), DIR/fields.h5\n"
+      "                      + fields.xdmf are downloaded and checked, and DIR/status.json written\n"
+      "                      (state, files with sizes and SHA-256, checksum). A retry with the same\n"
+      "                      --request-id gets the same files; with other --steps it is refused\n"
       "  --request-id ID     makes a retried submit idempotent (default: a random 128-bit id)\n"
       "  --profile-every N, --particles-every N   frame interval in steps (default max(1, steps/200))\n"
       "watch details:\n"

@@ -1,10 +1,12 @@
-// fetch: the session's current density and velocity, appended as a snapshot to DIR/fields.h5
-// (and DIR/fields.xdmf for ParaView).
+// fetch: what the daemon recorded for the session (scenario.outputs) and its checkpoints, copied
+// into DIR (output_download.h); with --now, the session's current density and velocity appended
+// as a snapshot to DIR/fields.h5 (and DIR/fields.xdmf for ParaView) instead.
 #include <filesystem>
 
 #include "commands.h"
 #include "field_fetch.h"
 #include "json_writer.h"
+#include "output_download.h"
 #include "rpc_client.h"
 #include "server/storage/field_snapshot.h"
 
@@ -19,6 +21,22 @@ int cmd_fetch(const CommandLine& line) {
   if (error) throw CliError(kExitBadInput, dir.string() + ": " + error.message());
 
   Daemon daemon(line.global);
+  if (!line.has("now")) {
+    const auto files = download_outputs(daemon, session_id, dir.string(), /*with_checkpoints=*/true);
+    std::vector<std::string> listed, text;
+    for (const auto& f : files) {
+      listed.push_back(JsonObject()
+                           .string("name", f.name)
+                           .integer("bytes", static_cast<long long>(f.bytes))
+                           .string("sha256", f.sha256)
+                           .str());
+      text.push_back("wrote " + (dir / f.name).string() + " (" + std::to_string(f.bytes) + " bytes)");
+    }
+    std::string joined = files.empty() ? session_id + ": nothing recorded (scenario.outputs) and no checkpoints" : "";
+    for (const auto& t : text) joined += (joined.empty() ? "" : "\n") + t;
+    emit(line, JsonObject().string("session_id", session_id).raw("files", json_array(listed)).str(), joined);
+    return kExitOk;
+  }
   const FetchedFields fetched = fetch_fields(daemon, session_id);
   const std::string h5 = (dir / "fields.h5").string();
   write_field_snapshot(h5, fetched);

@@ -8,7 +8,7 @@
 #include "progress_bar.h"
 #include "result_writer.h"
 #include "rpc_client.h"
-#include "run_recording.h"
+#include "output_download.h"
 #include "scenario_file.h"
 #include "session_follow.h"
 
@@ -24,7 +24,25 @@ bool needs_run(const Session& s) {
   return s.state() == lbsolid::v1::SESSION_STATE_CREATED && s.step() == 0 && s.target_step() == 0;
 }
 
+// What `submit --out` records, unless the scenario file declares its own outputs: every body's
+// particles and the velocity profile at the frame intervals, and the fields at the end.
+void declare_outputs(lbsolid::v1::Scenario& scenario, const SubmitOptions& options) {
+  if (scenario.has_outputs()) return;
+  auto* outputs = scenario.mutable_outputs();
+  if (scenario.bodies_size() > 0) outputs->set_particles_every(options.particles_every);
+  if (has_fluid(scenario)) {
+    outputs->set_profile_every(options.profile_every);
+    outputs->set_final_fields(true);
+  }
+}
+
 Session start(Daemon& daemon, const Session& created, long steps) {
+  // A retried submit must ask for what the first one did: its request id names a run of another
+  // length otherwise, and attaching to it would pass that run off as this one.
+  if (created.target_step() != 0 && created.target_step() != steps && !needs_run(created))
+    throw CliError(kExitBadInput, "--steps: request id " + created.request_id() + " names session " + created.id() +
+                                      ", run to step " + std::to_string(created.target_step()) + ", not " +
+                                      std::to_string(steps) + "; give another --request-id for another run");
   if (!needs_run(created)) {
     std::fprintf(stderr, "lbsolid: request id %s names session %s (%s, step %lld/%lld): attaching to it\n",
                  created.request_id().c_str(), created.id().c_str(), state_name(created.state()).c_str(),
@@ -55,8 +73,11 @@ std::string files_text(const std::string& dir, const RunRecord& record) {
 
 int cmd_submit(const CommandLine& line) {
   const SubmitOptions options = submit_options(line);
-  const lbsolid::v1::Scenario scenario = load_scenario(options.file);
-  if (!options.out_dir.empty()) prepare_output_directory(options.out_dir);
+  lbsolid::v1::Scenario scenario = load_scenario(options.file);
+  if (!options.out_dir.empty()) {
+    prepare_output_directory(options.out_dir);
+    declare_outputs(scenario, options);
+  }
   Daemon daemon(line.global);
 
   lbsolid::v1::CreateSessionRequest create;
@@ -81,23 +102,36 @@ int cmd_submit(const CommandLine& line) {
     return outcome_exit_code(done);
   }
 
-  // --out: from here on every failure ends up in status.json rather than being thrown.
-  RunRecording recording(daemon, created, scenario, options);
-  recording.wait_streams_registered();
+  // --out: the daemon records the run (scenario.outputs); from here on every failure ends up in
+  // status.json rather than being thrown.
+  RunRecord record;
+  record.session_id = created.id();
   Session last = created;
-  std::string error;
-  int exit_code = kExitOk;
   try {
     last = start(daemon, created, options.steps);
     last = follow_session(daemon, created.id(), progress, &last);
-    exit_code = outcome_exit_code(last);
+    record.exit_code = outcome_exit_code(last);
+    progress.finish();
+    record.files = download_outputs(daemon, created.id(), options.out_dir, /*with_checkpoints=*/false);
   } catch (const RpcError& e) {
-    error = e.what();
-    exit_code = e.exit_code();
-    std::fprintf(stderr, "lbsolid: %s\n", e.what());
+    record.error = e.what();
+    record.exit_code = e.exit_code();
+  } catch (const CliError& e) {
+    record.error = e.what();
+    record.exit_code = e.exit_code;
   }
   progress.finish();
-  const RunRecord record = recording.finish(last, error, exit_code);
+  if (!record.error.empty()) std::fprintf(stderr, "lbsolid: %s\n", record.error.c_str());
+  record.state = state_name(last.state());
+  record.step = last.step();
+  record.target_step = last.target_step();
+  record.message = last.message();
+  try {
+    write_file_atomically((std::filesystem::path(options.out_dir) / "status.json").string(), status_json(record) + "\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lbsolid: %s\n", e.what());
+    if (record.exit_code == kExitOk) record.exit_code = kExitBadInput;
+  }
   emit(line, status_json(record), session_line(last) + "\n" + files_text(options.out_dir, record));
   return record.exit_code;
 }

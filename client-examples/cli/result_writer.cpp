@@ -46,6 +46,7 @@ std::string status_json(const RunRecord& r) {
                         .string("sha256", f.sha256)
                         .str());
   return JsonObject()
+      .integer("version", kStatusVersion)
       .string("session_id", r.session_id)
       .string("state", r.state)
       .integer("step", r.step)

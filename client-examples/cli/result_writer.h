@@ -1,7 +1,9 @@
 #pragma once
 // DIR/status.json, the record of a `submit --out` run that scripts check:
-//   {"session_id", "state", "step", "target_step", "message", "error", "files": [{"name", "bytes",
-//    "sha256"}], "checksum", "exit_code"}
+//   {"version", "session_id", "state", "step", "target_step", "message", "error", "files": [{"name",
+//    "bytes", "sha256"}], "checksum", "exit_code"}
+// version 2: the files are the daemon's recorded outputs (version 1, without the field: the CLI's
+// own recording of the streams).
 // checksum is the SHA-256 of the files' sha256 hex strings concatenated in name order, so one
 // value says whether a whole result directory is unchanged.
 #include <cstdint>
@@ -9,6 +11,8 @@
 #include <vector>
 
 namespace lbsolid::cli {
+
+inline constexpr int kStatusVersion = 2;
 
 struct FileEntry {
   std::string name;  // relative to the directory

@@ -30,8 +30,10 @@ Daemon::Daemon(const GlobalOptions& options) : options_(options) {
   stub_ = lbsolid::v1::Simulation::NewStub(channel_);
 }
 
-void Daemon::set_deadline(grpc::ClientContext& context) const {
-  const auto timeout = std::chrono::duration<double>(options_.timeout_s);
+void Daemon::set_deadline(grpc::ClientContext& context) const { set_deadline(context, options_.timeout_s); }
+
+void Daemon::set_deadline(grpc::ClientContext& context, double seconds) const {
+  const auto timeout = std::chrono::duration<double>(seconds);
   context.set_deadline(std::chrono::system_clock::now() +
                        std::chrono::duration_cast<std::chrono::system_clock::duration>(timeout));
 }

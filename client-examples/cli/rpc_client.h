@@ -20,6 +20,7 @@ class Daemon {
   const GlobalOptions& options() const { return options_; }
   // Sets the per-call deadline (--timeout from now) on a unary call's or a bounded stream's context.
   void set_deadline(grpc::ClientContext& context) const;
+  void set_deadline(grpc::ClientContext& context, double seconds) const;
 
   // One unary call with the deadline; throws RpcError on any status but OK.
   template <class Request, class Response>

@@ -80,6 +80,7 @@ TEST(ResultWriter, StatusJsonAndAtomicWrite) {
   r.files = {{"particles.h5", 10, sha256_hex("x")}};
   r.exit_code = 1;
   const std::string json = status_json(r);
+  EXPECT_EQ(json.find("{\"version\":2,"), 0u) << json;
   EXPECT_NE(json.find("\"session_id\":\"s-000001\""), std::string::npos);
   EXPECT_NE(json.find("\"state\":\"FAILED\""), std::string::npos);
   EXPECT_NE(json.find("\"message\":\"step 120: \\\"rho\\\" < 0\""), std::string::npos);

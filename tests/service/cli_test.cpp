@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "service/daemon_process.h"
@@ -148,6 +149,50 @@ TEST_F(Cli, MainJobGivesTheFiguresTheReadmeQuotes) {
   EXPECT_NEAR(summary_value(text, "R^2"), 0.9976, 0.00005) << text;
   EXPECT_NEAR(summary_value(text, "Re = u_inf D / nu"), 0.265, 0.0005) << text;
   EXPECT_NEAR(summary_value(text, "c_d = F / (rho0 u_inf^2 D)"), 30.5, 0.05) << text;
+}
+
+// The bytes of a file, or "" if it is missing.
+std::string bytes_of(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+// A submit --out killed at a random moment (before the session exists, while it runs, while the
+// files download) and then retried with the same --request-id ends with the complete files, byte
+// for byte those a second retry into another directory gets; no partial file stays behind. A retry
+// that asks for other --steps is refused (exit 2) instead of passing the first run off as its own.
+// The moments come from a fixed seed, spread over the whole life of a submit here (~0.1-0.3 s).
+TEST_F(Cli, ASubmitKilledAtRandomMomentsAndRetriedGetsTheSameCompleteFiles) {
+  const auto scenario = write_file(dir_, "small.textproto", kSmallScenario);
+  std::mt19937 random(20261201);
+  std::uniform_int_distribution<int> moment_ms(0, 300);
+  for (int trial = 0; trial < 20; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const std::string id = "retry-" + std::to_string(trial);
+    const std::string first = dir_ + "/" + id + "-a", second = dir_ + "/" + id + "-b";
+    const std::string submit = server() + "submit " + scenario + " --steps 3000 --profile-every 20 --particles-every 20" +
+                               " --request-id " + id + " --out ";
+    const std::string killed = "timeout -s KILL " + std::to_string(moment_ms(random) / 1000.0) + " " +
+                               std::string(LBSOLID_CLI_PATH) + " " + submit + first + " >/dev/null 2>&1";
+    (void)std::system(killed.c_str());
+    ASSERT_EQ(cli(submit + first + " >/dev/null").exit_code, 0);
+    ASSERT_EQ(cli(submit + second + " >/dev/null").exit_code, 0);
+    for (const char* file : {"particles.h5", "fields.h5", "fields.xdmf"}) {
+      const std::string a = bytes_of(first + "/" + file);
+      EXPECT_FALSE(a.empty()) << file;
+      EXPECT_TRUE(a == bytes_of(second + "/" + file)) << file << " differs between the retries";
+    }
+    for (const auto& entry : fs::directory_iterator(first))
+      EXPECT_EQ(entry.path().filename().string().find(".part-"), std::string::npos) << entry.path();
+  }
+  // The same frame intervals, so that only the steps differ (other intervals are another scenario:
+  // ALREADY_EXISTS, exit 2 too).
+  const auto other_steps = cli(server() + "submit " + scenario + " --steps 2999 --profile-every 20 --particles-every 20" +
+                               " --request-id retry-0 --out " + dir_ + "/other 2>&1");
+  EXPECT_EQ(other_steps.exit_code, 2) << other_steps.out;
+  EXPECT_NE(other_steps.out.find("--steps: request id retry-0"), std::string::npos) << other_steps.out;
 }
 
 TEST_F(Cli, UnreachableDaemonExitsThree) {
