@@ -65,11 +65,50 @@ address=127.0.0.1:$(cat "$work/port")
 echo "lbsolidd serves on $address"
 
 "$client" --address "$address" --scenario "$scenario" --steps "$steps" --every "$every" --print-hex \
-  --timeout 30 --stream-timeout 90 >"$work/client.txt" ||
-  fail "lbsolid-go-profiles exited with status $?"
+  --timeout 30 --stream-timeout 90 --outputs "$work/outputs" >"$work/client.txt" 2>"$work/client.err" ||
+  fail "lbsolid-go-profiles exited with status $?: $(cat "$work/client.err")"
+# The recorded files it copied: each as the daemon named it (coreutils' sha256sum, not the client's).
+for name in particles.h5 fields.h5 fields.xdmf; do
+  named=$(sed -n "s/^downloaded $name [0-9]* //p" "$work/client.err")
+  [ -n "$named" ] || fail "the client did not download $name"
+  [ "$(sha256sum "$work/outputs/$name" | cut -d' ' -f1)" = "$named" ] || fail "$name differs from what the daemon named"
+done
 "$reference" "$scenario" --steps "$steps" --profiles-every "$every" >"$work/reference.txt" ||
   fail "lbsolid-reference exited with status $?"
 echo "client: $(grep -c '^profile ' "$work/client.txt" || true) frames; reference: $(grep -c '^profile ' "$work/reference.txt" || true) frames"
 
 "$compare" "$work/client.txt" "$work/reference.txt" || fail "the Go client's frames differ from the core's (above)"
 echo "PASS: the Go client received exactly what the core computes"
+stop_daemon
+
+# TLS and a bearer token: a throwaway CA and a certificate for 127.0.0.1, a tokens file of hashes.
+printf 'subjectAltName=DNS:localhost,IP:127.0.0.1\n' >"$work/san.cnf"
+ec="-newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes"
+(cd "$work" &&
+  openssl req -x509 $ec -keyout ca.key -out ca.pem -days 2 -subj "/CN=go test CA" &&
+  openssl req $ec -keyout daemon.key -out daemon.csr -subj "/CN=localhost" &&
+  openssl x509 -req -in daemon.csr -CA ca.pem -CAkey ca.key -CAcreateserial -out daemon.pem -days 2 \
+    -extfile san.cnf) >"$work/openssl.log" 2>&1 || fail "openssl: $(cat "$work/openssl.log")"
+echo "$(printf %s go-secret | sha256sum | cut -d' ' -f1) go-user user" >"$work/tokens"
+printf 'go-secret\n' >"$work/token"
+rm -f "$work/port"
+timeout 110 "$lbsolidd" --listen 127.0.0.1:0 --port_file "$work/port" --data_dir "$work/data-tls" \
+  --tls_cert "$work/daemon.pem" --tls_key "$work/daemon.key" --tokens_file "$work/tokens" \
+  --log_level warn >"$work/daemon.log" 2>&1 &
+daemon_pid=$!
+i=0
+while [ ! -s "$work/port" ]; do
+  kill -0 "$daemon_pid" 2>/dev/null || { wait "$daemon_pid" || true; daemon_pid=; fail "lbsolidd (TLS) exited at start"; }
+  [ $i -lt 400 ] || fail "lbsolidd (TLS) did not write its port file within 20 s"
+  sleep 0.05
+  i=$((i + 1))
+done
+address=127.0.0.1:$(cat "$work/port")
+tls="--address $address --scenario $scenario --steps $steps --every $every --timeout 30 --tls-ca $work/ca.pem"
+"$client" $tls --token-file "$work/token" >/dev/null 2>"$work/client.err" ||
+  fail "lbsolid-go-profiles over TLS with its token exited with status $?: $(cat "$work/client.err")"
+status=0
+"$client" $tls >/dev/null 2>"$work/client.err" || status=$?
+[ $status -eq 2 ] || fail "without a token the client exited $status, not 2: $(cat "$work/client.err")"
+grep -q UNAUTHENTICATED "$work/client.err" || fail "without a token: $(cat "$work/client.err")"
+echo "PASS: over TLS the token is taken and its absence refused (exit 2)"

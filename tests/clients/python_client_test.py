@@ -9,8 +9,10 @@ Run by ctest (python_client_matches_core) with LBSOLIDD, LBSOLID_REFERENCE and L
 set by CMake; by hand: /usr/bin/python3 tests/clients/python_client_test.py from the repository root
 after a build in ./build.
 """
+import hashlib
 import os
 import subprocess
+import tempfile
 import sys
 import unittest
 from pathlib import Path
@@ -146,6 +148,34 @@ class PythonClientMatchesCore(unittest.TestCase):
         record = session.run_and_record(19, profiles_every=10, progress=False)
         self.assertEqual([p.step for p in record.profiles], [21, 30, 40])
 
+    def test_a_done_session_is_read_back_from_what_the_daemon_recorded(self):
+        scenario = load_scenario(SCENARIO)
+        scenario.outputs.profile_every = EVERY
+        scenario.outputs.particles_every = EVERY
+        session = self.client.create(scenario)
+        session.run(STEPS)
+        self.assertEqual(session.wait(progress=False).step, STEPS)
+        # A retried script finds it DONE: the frames come from the daemon's particles.h5.
+        record = session.run_and_record(STEPS, profiles_every=EVERY, particles_every=EVERY, progress=False)
+        expected_profiles, expected_bodies, _ = reference_run(STEPS, EVERY, EVERY)
+        self.assertEqual([p.step for p in record.profiles], [step for step, _, _ in expected_profiles])
+        for got, (step, y, u_x) in zip(record.profiles, expected_profiles):
+            self.assertTrue(bit_equal(got.y, y), f"profile y at step {step}")
+            self.assertTrue(bit_equal(got.u_x, u_x), f"profile u_x at step {step}")
+        self.assertEqual([f.step for f in record.particles], sorted(expected_bodies))
+        for frame in record.particles:
+            for name, body in frame.bodies.items():
+                for quantity in ("position", "velocity", "centre_of_mass", "mean_velocity"):
+                    self.assertTrue(bit_equal(getattr(body, quantity), expected_bodies[frame.step][name][quantity]),
+                                    f"step {frame.step} body {name} {quantity}")
+        listed = {f.name: f for f in session.outputs()}
+        self.assertIn("particles.h5", listed)
+        with tempfile.TemporaryDirectory() as tmp:
+            copy = Path(tmp) / "particles.h5"
+            session.download("particles.h5", copy)
+            self.assertEqual(hashlib.sha256(copy.read_bytes()).hexdigest(), listed["particles.h5"].sha256)
+            self.assertEqual([p.name for p in Path(tmp).iterdir()], ["particles.h5"])  # no part file left
+
     def test_bad_input_names_the_field(self):
         import grpc
         scenario = load_scenario(SCENARIO)
@@ -166,6 +196,49 @@ class PythonClientMatchesCore(unittest.TestCase):
             self.client.create(scenario)
         self.assertEqual(caught.exception.code(), grpc.StatusCode.RESOURCE_EXHAUSTED)
         self.assertFalse(retryable(caught.exception), caught.exception.details())
+
+
+def openssl(directory, *args):
+    subprocess.run(["openssl", *args], cwd=directory, check=True, capture_output=True)
+
+
+class PythonClientOverTls(unittest.TestCase):
+    """TLS with a throwaway CA made here by openssl, and a bearer token checked against its hash."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="lbsolid-py-tls-")
+        d = Path(cls.tmp.name)
+        (d / "san.cnf").write_text("subjectAltName=DNS:localhost,IP:127.0.0.1\n")
+        ec = ["-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:prime256v1", "-nodes"]
+        openssl(d, "req", "-x509", *ec, "-keyout", "ca.key", "-out", "ca.pem", "-days", "2", "-subj", "/CN=py test CA")
+        openssl(d, "req", *ec, "-keyout", "daemon.key", "-out", "daemon.csr", "-subj", "/CN=localhost")
+        openssl(d, "x509", "-req", "-in", "daemon.csr", "-CA", "ca.pem", "-CAkey", "ca.key", "-CAcreateserial",
+                "-out", "daemon.pem", "-days", "2", "-extfile", "san.cnf")
+        (d / "tokens").write_text(hashlib.sha256(b"py-secret").hexdigest() + " py-user user\n")
+        cls.ca = d / "ca.pem"
+        cls.daemon = LocalDaemon(extra_args=["--tls_cert", str(d / "daemon.pem"), "--tls_key", str(d / "daemon.key"),
+                                             "--tokens_file", str(d / "tokens")]).start()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.daemon.stop()
+        cls.tmp.cleanup()
+
+    def test_a_token_over_tls_owns_what_it_creates(self):
+        with Client(self.daemon.address, tls_ca=self.ca, token="py-secret").wait_ready() as client:
+            session = client.create(load_scenario(SCENARIO))
+            self.assertEqual(session.get().owner, "py-user")
+            self.assertEqual([s.id for s in client.list()], [session.id])
+
+    def test_no_token_or_a_wrong_one_is_unauthenticated_and_not_retryable(self):
+        import grpc
+        for token in ("", "guessed"):
+            with Client(self.daemon.address, tls_ca=self.ca, token=token) as client:
+                with self.assertRaises(grpc.RpcError) as caught:
+                    client.info()
+                self.assertEqual(caught.exception.code(), grpc.StatusCode.UNAUTHENTICATED, token)
+                self.assertFalse(retryable(caught.exception))
 
 
 if __name__ == "__main__":

@@ -3,7 +3,8 @@
 // and reports how the session ended.
 //
 //	lbsolid-go-profiles --address HOST:PORT --scenario FILE --steps N --every K [--print-hex]
-//	                    [--timeout S] [--stream-timeout S]
+//	                    [--timeout S] [--stream-timeout S] [--outputs DIR]
+//	                    [--tls-ca FILE [--tls-cert FILE --tls-key FILE]] [--token-file FILE]
 //
 // Exit codes, as the lbsolid CLI's: 0 the session reached DONE; 1 it FAILED or was CANCELLED;
 // 2 bad input (usage, unreadable or invalid scenario, INVALID_ARGUMENT, NOT_FOUND, ...);
@@ -32,6 +33,11 @@ type options struct {
 	printHex      bool
 	timeout       time.Duration // deadline of each unary RPC (and of connecting)
 	streamTimeout time.Duration // deadline of the whole profile stream
+	outputs       string        // where to copy the daemon's recorded outputs ("": none recorded)
+	tlsCA         string
+	tlsCert       string
+	tlsKey        string
+	tokenFile     string
 }
 
 func parseOptions() (options, error) {
@@ -45,6 +51,11 @@ func parseOptions() (options, error) {
 	flags.BoolVar(&o.printHex, "print-hex", false, "print one line per frame, 'profile STEP NY y... u_x...', in hexadecimal floats (exact)")
 	flags.Float64Var(&timeout, "timeout", 30, "deadline of each unary call and of connecting, seconds")
 	flags.Float64Var(&streamTimeout, "stream-timeout", 3600, "deadline of the profile stream (the whole run), seconds")
+	flags.StringVar(&o.outputs, "outputs", "", "have the daemon record the profiles and final fields, and copy them into this directory after the run")
+	flags.StringVar(&o.tlsCA, "tls-ca", "", "TLS: trust the daemon's certificate if this CA (PEM) signed it")
+	flags.StringVar(&o.tlsCert, "tls-cert", "", "a client certificate (PEM) for mutual TLS, with --tls-key")
+	flags.StringVar(&o.tlsKey, "tls-key", "", "the key of --tls-cert (PEM)")
+	flags.StringVar(&o.tokenFile, "token-file", "", "send the token in this file's first line (default $LBSOLID_TOKEN)")
 	if err := flags.Parse(os.Args[1:]); err != nil {
 		return o, err
 	}
@@ -81,8 +92,15 @@ func run(o options) int {
 		return fail(exitBadInput, "%v", err)
 	}
 
+	if o.outputs != "" && scenario.GetOutputs() == nil {
+		scenario.Outputs = &lbsolidv1.Outputs{ProfileEvery: o.every, FinalFields: true}
+	}
+	dial, err := dialOptions(o)
+	if err != nil {
+		return fail(exitBadInput, "%v", err)
+	}
 	dialCtx, cancelDial := context.WithTimeout(context.Background(), o.timeout)
-	conn, err := grpc.DialContext(dialCtx, o.address, grpc.WithInsecure(), grpc.WithBlock())
+	conn, err := grpc.DialContext(dialCtx, o.address, append(dial, grpc.WithBlock())...)
 	cancelDial()
 	if err != nil {
 		return fail(exitTransient, "cannot connect to lbsolidd at %s within %v: %v", o.address, o.timeout, err)
@@ -162,6 +180,11 @@ func run(o options) int {
 	cancel()
 	if err != nil {
 		return rpcFailure("GetSession", err)
+	}
+	if o.outputs != "" && session.GetState() == lbsolidv1.SessionState_SESSION_STATE_DONE {
+		if code := downloadOutputs(client, id, o.outputs, o.timeout); code != exitDone {
+			return code
+		}
 	}
 	return reportEnd(session, frames)
 }

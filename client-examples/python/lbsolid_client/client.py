@@ -10,6 +10,9 @@ with the status code and a message naming the field at fault; a session that fai
 raises SessionFailed with the daemon's "step N: cause". `retryable(error)` says whether retrying the
 same call can help (as the CLI's exit code 3 does).
 """
+import hashlib
+import os
+import tempfile
 import threading
 import uuid
 from dataclasses import dataclass, field
@@ -20,6 +23,8 @@ import numpy as np
 from google.protobuf import json_format, text_format
 
 from ._stubs import scenario_pb2, simulation_pb2 as pb, simulation_pb2_grpc
+from .credentials import open_channel
+from .h5md import recording_from_h5md
 from .progress import ProgressBar
 
 FINAL_STATES = (pb.SESSION_STATE_DONE, pb.SESSION_STATE_FAILED, pb.SESSION_STATE_CANCELLED)
@@ -126,10 +131,13 @@ def particles_from_proto(frame) -> Particles:
 
 
 class Client:
-    def __init__(self, address: str, timeout: float = 30.0, options=None):
+    def __init__(self, address: str, timeout: float = 30.0, options=None, tls_ca=None, client_cert=None,
+                 client_key=None, token=None):
+        """`tls_ca`, `client_cert`, `client_key` (PEM files) and `token` (default $LBSOLID_TOKEN):
+        see credentials.open_channel."""
         self.address = address
         self.timeout = timeout
-        self.channel = grpc.insecure_channel(address, options=options or [])
+        self.channel = open_channel(address, tls_ca, client_cert, client_key, token, options)
         self.stub = simulation_pb2_grpc.SimulationStub(self.channel)
 
     def close(self):
@@ -246,20 +254,61 @@ class Session:
         request = pb.WatchParticlesRequest(session_id=self.id, every=every, delivery=delivery, bodies=list(bodies))
         return self._stub.WatchParticles(request, timeout=timeout)
 
+    def outputs(self):
+        """What the daemon recorded for the session (scenario.outputs) and its checkpoints, as
+        OutputFile messages (name, bytes, sha256), made as of now."""
+        request = pb.ListOutputsRequest(session_id=self.id)
+        return list(self._stub.ListOutputs(request, timeout=self.timeout_for_listing()).files)
+
+    def timeout_for_listing(self):
+        return max(self.client.timeout, 300.0)  # the daemon may first make the files from its log
+
+    def download(self, name: str, path, attempts: int = 5):
+        """Copies the output `name` to `path`: into a hidden part file beside it, resumed from the
+        bytes received when the stream breaks (naming the version, so a changed file is refused),
+        checked against the daemon's SHA-256, then renamed. Returns the OutputFile."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        listed = {f.name: f for f in self.outputs()}
+        if name not in listed:
+            raise KeyError(f"session {self.id} has no output {name!r}; it has {sorted(listed)}")
+        wanted = listed[name]
+        fd, part = tempfile.mkstemp(prefix=f".{path.name}.part-", dir=path.parent)
+        try:
+            with os.fdopen(fd, "wb") as out:
+                for attempt in range(1, attempts + 1):
+                    request = pb.DownloadOutputRequest(session_id=self.id, name=name, offset=out.tell(),
+                                                       sha256=wanted.sha256, chunk_bytes=3 << 20)
+                    try:
+                        for chunk in self._stub.DownloadOutput(request, timeout=3600):
+                            if chunk.offset != out.tell():
+                                raise RuntimeError(f"{name}: a chunk at offset {chunk.offset}, expected {out.tell()}")
+                            out.write(chunk.data)
+                        break
+                    except grpc.RpcError as error:
+                        if not retryable(error) or attempt == attempts:
+                            raise
+            digest = hashlib.sha256(Path(part).read_bytes()).hexdigest()
+            if digest != wanted.sha256:
+                raise RuntimeError(f"{name}: the copy's SHA-256 {digest} is not the daemon's {wanted.sha256}")
+            os.replace(part, path)
+        finally:
+            if os.path.exists(part):
+                os.unlink(part)
+        return wanted
+
     def run_and_record(self, steps: int, profiles_every: int = 0, particles_every: int = 0, bodies=(),
                        progress=None, label: str = None) -> Recording:
         """Runs `steps` steps and records every profile and particle frame asked for, losing none.
 
         The streams are opened first and their first frame (the current state) awaited, so Run
-        starts only once both are listening. The session must not be DONE (the daemon closes a
-        DONE session's streams after their first frame): record from CREATED or PAUSED, or use
-        one call for the whole run.
+        starts only once both are listening. A session that is DONE already (a retried script) is
+        not run again: its frames are read from what the daemon recorded for it (scenario.outputs,
+        particles.h5), those at multiples of the intervals asked for; mass and energy are not in
+        that file and read NaN.
         """
         if self.get().state == pb.SESSION_STATE_DONE:
-            raise ValueError(
-                f"session {self.id} is DONE: the daemon ends a DONE session's streams after their first "
-                "frame, so frames of a further run would be lost; record the whole run in one call, or "
-                "advance it with step() (which leaves it PAUSED) before recording again")
+            return self._recorded(profiles_every, particles_every, bodies)
         streams = []
         if profiles_every > 0:
             streams.append(("profiles", self.watch_profiles(profiles_every), profile_from_proto))
@@ -301,6 +350,16 @@ class Session:
         if errors:
             raise errors[0]
         return Recording(final, collected.get("profiles", []), collected.get("particles", []))
+
+    def _recorded(self, profiles_every, particles_every, bodies) -> Recording:
+        if "particles.h5" not in {f.name for f in self.outputs()}:
+            raise ValueError(
+                f"session {self.id} is DONE and the daemon recorded nothing for it (no scenario.outputs): "
+                "its frames are gone; declare outputs in the scenario, or record the whole run in one call")
+        with tempfile.TemporaryDirectory(prefix="lbsolid-outputs-") as tmp:
+            self.download("particles.h5", Path(tmp) / "particles.h5")
+            return recording_from_h5md(Path(tmp) / "particles.h5", self.snapshot, profiles_every, particles_every,
+                                       bodies)
 
     def fields(self, names=("density", "velocity"), chunk_bytes: int = 1 << 20) -> dict:
         """The whole fields at the current step, as numpy arrays (header shape, float64)."""

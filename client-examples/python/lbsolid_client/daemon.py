@@ -22,7 +22,9 @@ def default_binary() -> Path:
 
 
 class LocalDaemon:
-    def __init__(self, binary=None, data_dir=None, workers=None, log_level="warn", start_timeout=30.0):
+    def __init__(self, binary=None, data_dir=None, workers=None, log_level="warn", start_timeout=30.0,
+                 extra_args=()):
+        """`extra_args`: more lbsolidd flags (e.g. --tls_cert, --tokens_file)."""
         self.binary = Path(binary) if binary else default_binary()
         if not self.binary.exists():
             raise FileNotFoundError(f"lbsolidd not found at {self.binary}: build the project or set LBSOLIDD")
@@ -31,6 +33,7 @@ class LocalDaemon:
         self.workers = workers
         self.log_level = log_level
         self.start_timeout = start_timeout
+        self.extra_args = list(extra_args)
         self.process = None
         self.address = None
 
@@ -42,6 +45,7 @@ class LocalDaemon:
                 "--data_dir", str(self.data_dir / "data"), "--log_level", self.log_level]
         if self.workers:
             args += ["--workers", str(self.workers)]
+        args += self.extra_args
         self.process = subprocess.Popen(args, stdout=subprocess.DEVNULL)
         deadline = time.monotonic() + self.start_timeout
         while time.monotonic() < deadline:

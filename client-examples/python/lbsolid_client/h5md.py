@@ -1,0 +1,45 @@
+"""Frames read back from a particles.h5 the daemon recorded (H5MD, server/storage/h5md_file.h):
+the velocity profile series and each body's particles and mean motion."""
+import h5py
+import numpy as np
+
+
+def _series(group):
+    return np.asarray(group["step"][...], dtype=np.int64), np.asarray(group["value"][...], dtype=np.float64)
+
+
+def _xyz(values, dimension):
+    """[..., dimension] -> [..., 3] with z = 0 in 2D, as the wire carries them."""
+    if dimension == 3:
+        return values
+    pad = np.zeros(values.shape[:-1] + (3 - dimension,))
+    return np.concatenate([values, pad], axis=-1)
+
+
+def recording_from_h5md(path, session, profiles_every=0, particles_every=0, bodies=()):
+    """A Recording of the frames at multiples of the intervals asked for (0: none)."""
+    from .client import Body, Particles, Profile, Recording  # the types the streams give
+    profiles, particles = [], []
+    with h5py.File(path, "r") as f:
+        if profiles_every and "observables/velocity_profile" in f:
+            steps, values = _series(f["observables/velocity_profile"])
+            y = np.asarray(f["observables/velocity_profile_y"][...], dtype=np.float64)
+            profiles = [Profile(int(s), y, v) for s, v in zip(steps, values) if s % profiles_every == 0]
+        if particles_every and "particles" in f:
+            names = list(bodies) or sorted(f["particles"].keys())
+            frames = {}
+            for name in names:
+                group = f[f"particles/{name}"]
+                dimension = int(group["box"].attrs["dimension"])
+                steps, positions = _series(group["position"])
+                _, velocities = _series(group["velocity"])
+                _, centres = _series(f[f"observables/{name}/centre_of_mass"])
+                _, means = _series(f[f"observables/{name}/velocity"])
+                for k, step in enumerate(steps):
+                    if step % particles_every:
+                        continue
+                    frames.setdefault(int(step), {})[name] = Body(
+                        name, _xyz(positions[k], dimension), _xyz(velocities[k], dimension),
+                        _xyz(centres[k], dimension), _xyz(means[k], dimension), float("nan"), float("nan"))
+            particles = [Particles(step, frames[step]) for step in sorted(frames)]
+    return Recording(session, profiles, particles)
