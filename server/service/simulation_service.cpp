@@ -15,6 +15,7 @@
 #include "server/api/error_summary.h"
 #include "server/api/log_text.h"
 #include "server/auth/caller.h"
+#include "server/storage/sha256.h"
 
 namespace lbsolid::server {
 
@@ -427,6 +428,86 @@ grpc::Status SimulationService::Restore(grpc::ServerContext* context, const v1::
   return audited(*context, "Restore", [&] { return response->id(); }, [&](const auth::Identity& caller) -> grpc::Status {
     if (request->checkpoint_id().empty()) return invalid("checkpoint_id: required");
     auto session = manager_.restore(request->checkpoint_id(), request->request_id(), caller);
+    if (!session.ok()) return to_grpc(session.status());
+    *response = (*session)->describe();
+    return grpc::Status::OK;
+  });
+}
+
+namespace {
+
+bool is_sha256_hex(const std::string& text) {
+  return text.size() == 64 && std::all_of(text.begin(), text.end(), [](char c) {
+           return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+         });
+}
+
+// The received bytes of an upload, in a file of its own under `dir`, removed with this object.
+class UploadFile {
+ public:
+  explicit UploadFile(const std::string& dir) : path_(dir + "/upload-XXXXXX") {
+    fd_ = ::mkstemp(path_.data());
+  }
+  ~UploadFile() {
+    if (fd_ >= 0) ::close(fd_);
+    ::unlink(path_.c_str());
+  }
+  bool ok() const { return fd_ >= 0; }
+  const std::string& path() const { return path_; }
+  bool append(const std::string& data) {
+    for (std::size_t written = 0; written < data.size();) {
+      const ssize_t n = ::write(fd_, data.data() + written, data.size() - written);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      written += static_cast<std::size_t>(n);
+    }
+    return true;
+  }
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
+}  // namespace
+
+grpc::Status SimulationService::UploadCheckpoint(grpc::ServerContext* context,
+                                                 grpc::ServerReader<v1::UploadCheckpointChunk>* reader,
+                                                 v1::Session* response) {
+  return audited(*context, "UploadCheckpoint", [&] { return response->id(); },
+                 [&](const auth::Identity& caller) -> grpc::Status {
+    v1::UploadCheckpointChunk chunk;
+    if (!reader->Read(&chunk)) return invalid("bytes: the first message must name the file's size and sha256");
+    const long long bytes = chunk.bytes();
+    const std::string sha256 = chunk.sha256(), request_id = chunk.request_id();
+    // A checkpoint holds the state a session keeps in memory: one the daemon could not hold is refused first.
+    const long long most = manager_.limits().max_memory_bytes;
+    if (bytes < 1) return invalid(absl::StrCat("bytes: the file's size, at least 1, got ", bytes));
+    if (bytes > most)
+      return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                          absl::StrCat("bytes: ", bytes, " bytes, more than this daemon's ", most, " (--max_memory)"));
+    if (!is_sha256_hex(sha256)) return invalid("sha256: must be the file's SHA-256 in 64 lowercase hex digits");
+    UploadFile file(manager_.upload_dir());
+    if (!file.ok())
+      return grpc::Status(grpc::StatusCode::UNAVAILABLE, absl::StrCat("data: cannot store the upload: ", std::strerror(errno)));
+    storage::Sha256 hash;
+    long long received = 0;
+    do {
+      received += static_cast<long long>(chunk.data().size());
+      if (received > bytes)
+        return invalid(absl::StrCat("data: more than the ", bytes, " bytes the first message named"));
+      hash.update(chunk.data());
+      if (!file.append(chunk.data()))
+        return grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                            absl::StrCat("data: cannot store the upload: ", std::strerror(errno)));
+    } while (reader->Read(&chunk));
+    if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "the upload was cancelled");
+    if (received != bytes)
+      return invalid(absl::StrCat("data: ", received, " bytes arrived of the ", bytes, " named (cut short)"));
+    if (const std::string got = hash.hex_digest(); got != sha256)
+      return grpc::Status(grpc::StatusCode::DATA_LOSS,
+                          absl::StrCat("data: the bytes received have SHA-256 ", got, ", not the ", sha256, " named"));
+    auto session = manager_.restore_upload(file.path(), request_id, caller);
     if (!session.ok()) return to_grpc(session.status());
     *response = (*session)->describe();
     return grpc::Status::OK;

@@ -20,6 +20,8 @@ class SimulationService final : public v1::Simulation::Service {
                                 v1::ValidateScenarioResponse*) override;
   grpc::Status GetSession(grpc::ServerContext*, const v1::GetSessionRequest*, v1::Session*) override;
   grpc::Status ListSessions(grpc::ServerContext*, const v1::ListSessionsRequest*, v1::ListSessionsResponse*) override;
+  grpc::Status UploadCheckpoint(grpc::ServerContext*, grpc::ServerReader<v1::UploadCheckpointChunk>*,
+                                v1::Session*) override;
   grpc::Status ListOutputs(grpc::ServerContext*, const v1::ListOutputsRequest*, v1::ListOutputsResponse*) override;
   grpc::Status DownloadOutput(grpc::ServerContext*, const v1::DownloadOutputRequest*,
                               grpc::ServerWriter<v1::OutputChunk>*) override;

@@ -387,20 +387,37 @@ absl::StatusOr<std::shared_ptr<Session>> SessionManager::restore(const std::stri
   if (const auto problem = auth::owner_name_problem(contents->owner); !problem.empty())
     return absl::DataLossError(absl::StrCat("checkpoint_id: its owner ", problem));
   if (!caller.may_act_on(contents->owner)) return no_checkpoint(checkpoint_id);
+  return restore_contents(*contents, "checkpoint_id", checkpoint_id, request_id, contents->owner);
+}
+
+absl::StatusOr<std::shared_ptr<Session>> SessionManager::restore_upload(const std::string& path,
+                                                                        const std::string& request_id,
+                                                                        const auth::Identity& caller) {
+  auto contents = store_.read_checkpoint_file(path);
+  if (!contents.ok()) return contents.status();
+  return restore_contents(*contents, "data", "an uploaded checkpoint", request_id, caller.owner);
+}
+
+absl::StatusOr<std::shared_ptr<Session>> SessionManager::restore_contents(const storage::CheckpointContents& contents,
+                                                                          const std::string& field,
+                                                                          const std::string& source,
+                                                                          const std::string& request_id,
+                                                                          const std::string& owner) {
   v1::Scenario scenario;
   std::string error;
-  if (!parse_scenario_text(contents->scenario_text, &scenario, &error))
-    return absl::DataLossError(absl::StrCat("checkpoint_id: its scenario does not parse: ", error));
-  auto session = add(scenario, request_id, contents->owner, [&](Session& fresh) {
+  if (!parse_scenario_text(contents.scenario_text, &scenario, &error))
+    return absl::DataLossError(absl::StrCat(field, ": its scenario does not parse: ", error));
+  auto session = add(scenario, request_id, owner, [&](Session& fresh) {
     try {
-      fresh.restore(contents->state, contents->target_step, v1::SESSION_STATE_PAUSED);
+      fresh.restore(contents.state, contents.target_step, v1::SESSION_STATE_PAUSED);
       return absl::OkStatus();
     } catch (const std::invalid_argument& e) {
-      return absl::DataLossError(absl::StrCat("checkpoint_id: ", e.what()));
+      return absl::DataLossError(absl::StrCat(field, ": ", e.what()));
     }
   });
   if (!session.ok()) return session;
-  spdlog::info("session {}: restored from {} at step {}", (*session)->id(), checkpoint_id, contents->state.step);
+  spdlog::info("session {}: restored from {} at step {} for {}", (*session)->id(), log_text(source),
+               contents.state.step, owner);
   return session;
 }
 

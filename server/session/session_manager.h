@@ -95,6 +95,12 @@ class SessionManager {
   // A checkpoint of a session the caller may act on; the new session belongs to the checkpoint's owner.
   absl::StatusOr<std::shared_ptr<Session>> restore(const std::string& checkpoint_id, const std::string& request_id,
                                                    const auth::Identity& caller);
+  // A checkpoint file from elsewhere (UploadCheckpoint), already on this disk: read, verified and
+  // restored as Restore does, into a session of the caller's.
+  absl::StatusOr<std::shared_ptr<Session>> restore_upload(const std::string& path, const std::string& request_id,
+                                                          const auth::Identity& caller);
+  // Where uploads are written before they are read (removed at start).
+  std::string upload_dir() const { return store_.upload_dir(); }
 
   // Brings back the sessions an earlier daemon saved. Returns how many.
   int recover();
@@ -117,6 +123,10 @@ class SessionManager {
                                                           const v1::Scenario& scenario, const RequestKey& request,
                                                           const Footprint& footprint);
   absl::Status admit_footprint_locked(const Footprint& footprint, const std::string& owner) const;
+  // A new session of `owner` continuing `contents`; errors name `field`, the log `source`.
+  absl::StatusOr<std::shared_ptr<Session>> restore_contents(const storage::CheckpointContents& contents,
+                                                            const std::string& field, const std::string& source,
+                                                            const std::string& request_id, const std::string& owner);
   // Registers a built session with its footprint (under mutex_).
   void register_locked(const std::shared_ptr<Session>& session, const Footprint& footprint);
   // Every session, whoever owns it: for the autosave, the shutdown and the destructor.

@@ -38,6 +38,8 @@ SessionStore::SessionStore(std::string data_dir, storage::WriterInfo writer)
   fs::create_directories(fs::path(data_dir_) / "sessions");
   fs::create_directories(fs::path(data_dir_) / "checkpoints");
   fs::create_directories(fs::path(data_dir_) / "outputs");
+  fs::remove_all(upload_dir());  // uploads a killed daemon was receiving: their clients retry
+  fs::create_directories(upload_dir());
   remove_partial_writes();
 }
 
@@ -111,6 +113,16 @@ absl::StatusOr<storage::CheckpointContents> SessionStore::read_checkpoint(const 
     return absl::DataLossError(absl::StrCat("checkpoint_id: ", e.what()));
   }
 }
+
+absl::StatusOr<storage::CheckpointContents> SessionStore::read_checkpoint_file(const std::string& path) const {
+  try {
+    return storage::read_checkpoint(path);
+  } catch (const std::exception& e) {
+    return absl::DataLossError(absl::StrCat("data: the uploaded checkpoint: ", e.what()));
+  }
+}
+
+std::string SessionStore::upload_dir() const { return (fs::path(data_dir_) / "uploads").string(); }
 
 absl::StatusOr<long> SessionStore::save(const Session& session) const {
   const auto saves = session.lock_saves();

@@ -5,6 +5,7 @@
 //   sessions/<session id>/progress            the last step a worker reached ("steps lost")
 //   outputs/<session id>/                     what scenario.outputs records (output_recorder.h),
 //                                             kept until the session is deleted
+//   uploads/                                  UploadCheckpoint's files while they arrive (emptied at start)
 // Every file is written to a temporary file of its own, fsync'ed and renamed (storage/). Writes
 // of one session are serialised (Session::lock_saves). Paths are built only from validated ids.
 #include <string>
@@ -40,6 +41,9 @@ class SessionStore {
   absl::StatusOr<CheckpointInfo> checkpoint(const Session& session) const;
   // NOT_FOUND, INVALID_ARGUMENT (malformed id) or DATA_LOSS (unreadable, corrupt, checksum).
   absl::StatusOr<storage::CheckpointContents> read_checkpoint(const std::string& checkpoint_id) const;
+  // An uploaded checkpoint file (under upload_dir()): DATA_LOSS naming what failed.
+  absl::StatusOr<storage::CheckpointContents> read_checkpoint_file(const std::string& path) const;
+  std::string upload_dir() const;
 
   // Writes the session's state for the next start, unless it is FAILED or CANCELLED (those are
   // not kept: their saved state is removed). Returns the step saved.
