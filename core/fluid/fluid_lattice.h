@@ -93,6 +93,10 @@ class FluidLattice {
   // gives, in the same order, with the row's plan looked up once (a velocity profile streamed
   // every few steps of a run then costs a fraction of a step instead of several).
   void add_row_velocity_x(int y, int z, double& sum) const;
+  // Density and velocity of nodes first .. first + count - 1 of row (y, z): density[k] and
+  // velocity[3k .. 3k + 2] are moments(first + k, y, z), bit for bit, with the row's sources looked
+  // up once (a field read of a large grid then costs about one pass over the populations).
+  void row_moments(int y, int z, int first, int count, double* density, double* velocity) const;
   std::array<double, L::Q> populations(int x, int y, int z = 0) const;  // f_i at time t
   double total_mass() const;
   Vec3 total_momentum() const;  // sum over nodes of sum_i f_i c_i
@@ -121,6 +125,9 @@ class FluidLattice {
   std::array<T, L::Q> gather_in_row(const RowPlan<T, L::Q>& plan, int x, long cell) const;
   DensityMomentum density_momentum_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
   Moments moments_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
+  // visit(x, moments(x, y, z)) for x = first .. first + count - 1, in order.
+  template <class Visit>
+  void for_each_row_moment(int y, int z, int first, int count, const Visit& visit) const;
   void check_in_place_slots() const;
   // One step's fused kernels with the given collision policy (bgk_collision.h and siblings).
   template <class Collision>

@@ -1,5 +1,6 @@
 #include "scene/simulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -159,15 +160,13 @@ class SimulationImpl final : public Simulation {
     return t;
   }
 
-  FluidFields fluid_fields() const override {
+  void fill_fluid_fields(FluidFields& fields) const override {
     const auto& f = require_fluid("fluid_fields");
     const auto& c = scene_.fluid;
-    FluidFields fields;
     fields.shape = {c.nx, c.ny, c.nz};
     fields.density.resize(f.cells());
     fields.velocity.resize(3 * f.cells());
     fluid_moments_range(0, f.cells(), fields.density.data(), fields.velocity.data());
-    return fields;
   }
 
   void fluid_moments_range(long first, long count, double* density, double* velocity) const override {
@@ -176,14 +175,15 @@ class SimulationImpl final : public Simulation {
     if (first < 0 || count < 0 || count > f.cells() - first)
       throw std::out_of_range("fluid_moments_range: cells [" + std::to_string(first) + ", +" + std::to_string(count) +
                               ") outside the " + std::to_string(f.cells()) + " nodes");
-    const long plane = static_cast<long>(c.nx) * c.ny;
-    for (long k = 0; k < count; ++k) {
+    // Row by row: each row's segment in [first, first + count) at once.
+    for (long k = 0; k < count;) {
       const long cell = first + k;
-      const auto m = f.moments(static_cast<int>(cell % c.nx), static_cast<int>((cell / c.nx) % c.ny),
-                               static_cast<int>(cell / plane));
-      if (density) density[k] = m.rho;
-      if (velocity)
-        for (int a = 0; a < 3; ++a) velocity[3 * k + a] = m.u[a];
+      const int x = static_cast<int>(cell % c.nx);
+      const long row = cell / c.nx;
+      const int n = static_cast<int>(std::min<long>(c.nx - x, count - k));
+      f.row_moments(static_cast<int>(row % c.ny), static_cast<int>(row / c.ny), x, n, density ? density + k : nullptr,
+                    velocity ? velocity + 3 * k : nullptr);
+      k += n;
     }
   }
 

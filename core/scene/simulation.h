@@ -90,7 +90,14 @@ class Simulation {
   double body_slip(int body) const;
   // Per particle: u_s = Psi / M.
   Vec3 particle_velocity(int p) const;
-  virtual FluidFields fluid_fields() const = 0;  // requires a fluid
+  FluidFields fluid_fields() const {  // requires a fluid
+    FluidFields fields;
+    fill_fluid_fields(fields);
+    return fields;
+  }
+  // The same into `fields`, whose vectors keep their memory when they have the size already (a
+  // reader that reuses one buffer then touches no fresh pages).
+  virtual void fill_fluid_fields(FluidFields& fields) const = 0;
   // Density and velocity of `count` nodes from node `first` on, in fluid_fields()' order, into
   // density[count] and velocity[3 count] (either may be null): a part of the fields without a
   // copy of the whole (std::out_of_range outside the grid).

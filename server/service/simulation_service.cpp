@@ -322,9 +322,9 @@ grpc::Status SimulationService::GetField(grpc::ServerContext* context, const v1:
     if (!writer->Write(header_message)) return grpc::Status(grpc::StatusCode::CANCELLED, "the stream was cancelled");
     const auto* bytes = reinterpret_cast<const char*>(values.data());
     const long total = header->total_bytes();
+    v1::FieldMessage message;  // one for every chunk: its buffer is reused, not allocated and faulted in each time
     for (long offset = 0; offset < total; offset += chunk) {
       if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "the stream was cancelled");
-      v1::FieldMessage message;
       message.mutable_chunk()->set_offset(offset);
       message.mutable_chunk()->set_data(bytes + offset, std::min(chunk, total - offset));
       if (!writer->Write(message)) return grpc::Status(grpc::StatusCode::CANCELLED, "the stream was cancelled");

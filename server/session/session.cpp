@@ -636,15 +636,27 @@ absl::StatusOr<std::shared_ptr<const FieldData>> Session::fields() const {
   if (static_cast<int>(snapshots_.size()) >= kFieldSnapshots)
     return absl::ResourceExhaustedError(absl::StrCat("GetField: ", kFieldSnapshots, " reads of session ", id_,
                                                      " at earlier steps are still in flight; retry when one ends"));
-  auto data = std::make_shared<FieldData>();
+  std::unique_ptr<FieldData> filled;
+  {
+    std::lock_guard lock(spare_snapshot_->mutex);
+    filled = std::move(spare_snapshot_->data);
+  }
+  if (!filled) filled = std::make_unique<FieldData>();
   {
     const auto sim_lock = lock_simulation();
-    data->step = sim_->step_count();
-    data->fields = sim_->fluid_fields();
+    filled->step = sim_->step_count();
+    sim_->fill_fluid_fields(filled->fields);  // into the spare's memory, already faulted in
   }
-  data->spacing = {1.0, scene::lattice_row_spacing(sim_->scene().lattice), 1.0};
+  filled->spacing = {1.0, scene::lattice_row_spacing(sim_->scene().lattice), 1.0};
+  // The last reader hands the snapshot back as the next one's buffer (one is kept: the footprint
+  // counts one field read for the session's whole life), even if the session is gone by then.
+  std::shared_ptr<const FieldData> data(filled.release(), [spare = spare_snapshot_](const FieldData* done) {
+    std::unique_ptr<FieldData> owned(const_cast<FieldData*>(done));
+    std::lock_guard lock(spare->mutex);
+    if (!spare->data) spare->data = std::move(owned);
+  });
   snapshots_.push_back(data);
-  return std::shared_ptr<const FieldData>(std::move(data));
+  return data;
 }
 
 storage::CheckpointContents Session::checkpoint_contents() const {

@@ -211,6 +211,11 @@ class Session {
   mutable std::mutex saves_mutex_;
   mutable std::mutex snapshots_mutex_;  // taken before sim_mutex_, never inside it
   mutable std::vector<std::weak_ptr<const FieldData>> snapshots_;
+  struct SpareSnapshot {
+    std::mutex mutex;
+    std::unique_ptr<FieldData> data;
+  };
+  const std::shared_ptr<SpareSnapshot> spare_snapshot_ = std::make_shared<SpareSnapshot>();
   std::atomic<Clock::rep> progress_noted_{0};  // Clock ticks of the last note
   std::atomic<long> steps_lost_{0};
 

@@ -205,6 +205,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           call<v1::ValidateScenarioRequest, v1::ValidateScenarioResponse>(payload, method, answered,
                                                                           bind(&S::ValidateScenario));
           break;
+        case Method::kListOutputs:  // makes the recorded files of scenario.outputs from the frame log
+          call<v1::ListOutputsRequest, v1::ListOutputsResponse>(payload, method, answered, bind(&S::ListOutputs));
+          break;
       }
     }
   }  // the manager stops its worker here

@@ -51,6 +51,8 @@ std::string session_life(const v1::Scenario& scenario) {
   v1::CreateSessionRequest create;
   *create.mutable_scenario() = scenario;
   create.set_request_id("seed");
+  // Recorded by the daemon too (scenario.outputs), so that ListOutputs has files to make.
+  if (create.scenario().bodies_size() > 0) create.mutable_scenario()->mutable_outputs()->set_particles_every(1);
   calls += encode_call(Method::kCreateSession, create.SerializeAsString());
   calls += encode_call(Method::kGetSession, with_session<v1::GetSessionRequest>(created));
   v1::StepRequest step;
@@ -58,6 +60,7 @@ std::string session_life(const v1::Scenario& scenario) {
   step.set_steps(2);
   calls += encode_call(Method::kStep, step.SerializeAsString());
   calls += encode_call(Method::kCheckpoint, with_session<v1::CheckpointRequest>(created));
+  calls += encode_call(Method::kListOutputs, with_session<v1::ListOutputsRequest>(created));
   v1::RestoreRequest restore;
   restore.set_checkpoint_id(answered(0));
   calls += encode_call(Method::kRestore, restore.SerializeAsString());

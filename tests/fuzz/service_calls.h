@@ -27,9 +27,10 @@ enum class Method : std::uint8_t {
   kCheckpoint,
   kRestore,
   kGetServerInfo,
-  kValidateScenario,  // last: the kept regression inputs name the others by the numbers above
+  kValidateScenario,
+  kListOutputs,  // new methods go last: the kept regression inputs name the others by the numbers above
 };
-inline constexpr int kMethodCount = 13;
+inline constexpr int kMethodCount = 14;
 inline constexpr int kMaxCalls = 16;
 
 inline std::string encode_call(Method method, const std::string& payload) {
