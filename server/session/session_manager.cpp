@@ -549,6 +549,9 @@ int SessionManager::recover() {
                    v1::SessionState_Name(recovered_state(contents)), contents.state.step);
     ++recovered;
   }
+  std::vector<std::string> kept;
+  for (const auto& session : all_sessions()) kept.push_back(session->id());
+  store_.remove_orphan_outputs(kept);
   return recovered;
 }
 

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <vector>
 #include <fstream>
@@ -56,6 +57,19 @@ std::string SessionStore::outputs_dir(const std::string& id) const {
 std::string SessionStore::checkpoint_dir(const std::string& id) const {
   if (!valid_session_id(id)) throw std::logic_error("invalid session id reached the store");
   return (fs::path(data_dir_) / "checkpoints" / id).string();
+}
+
+int SessionStore::remove_orphan_outputs(const std::vector<std::string>& kept_ids) const {
+  std::vector<fs::path> orphans;
+  std::error_code ignored;
+  for (const auto& entry : fs::directory_iterator(fs::path(data_dir_) / "outputs", ignored))
+    if (std::find(kept_ids.begin(), kept_ids.end(), entry.path().filename().string()) == kept_ids.end())
+      orphans.push_back(entry.path());
+  for (const auto& path : orphans) {
+    fs::remove_all(path, ignored);
+    spdlog::info("removed {}: the outputs of a session that did not come back", log_text(path.string(), 500));
+  }
+  return static_cast<int>(orphans.size());
 }
 
 void SessionStore::forget_outputs(const Session& session) const {

@@ -52,6 +52,9 @@ class SessionStore {
   void forget(const Session& session) const;
   // Removes what the session recorded (it is deleted).
   void forget_outputs(const Session& session) const;
+  // Removes the outputs of sessions that did not come back (FAILED or CANCELLED before a restart,
+  // or lost before their first save): no call can reach them any more. Returns how many.
+  int remove_orphan_outputs(const std::vector<std::string>& kept_ids) const;
   std::string outputs_dir(const std::string& id) const;
   std::string checkpoint_dir(const std::string& id) const;
   // Records that the session reached `step` (cheap; for the steps-lost figure after a crash).

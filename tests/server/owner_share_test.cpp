@@ -128,6 +128,34 @@ TEST(OwnerRecovery, SessionsSavedBeforeOwnersExistedBelongToTheLocalOwner) {
   EXPECT_FALSE(manager.find(id, kAlice).ok());
 }
 
+// A cancelled session is not kept across a restart, so nothing could reach its outputs any more:
+// the next start removes them, and keeps those of the sessions that come back.
+TEST(OwnerRecovery, OutputsOfSessionsThatDoNotComeBackAreRemoved) {
+  const ScopedDirectory dir("lbsolid-owners");
+  auto recorded = small_channel_with_disk(24, 12);
+  recorded.mutable_outputs()->set_profile_every(1);
+  std::string kept, cancelled;
+  {
+    server::SessionManager manager(dir.path, quiet_limits(), {"test", "test"});
+    kept = (*manager.create(recorded, "", kAlice))->id();
+    cancelled = (*manager.create(recorded, "", kAlice))->id();
+    for (const auto& id : {kept, cancelled}) {
+      ASSERT_TRUE((*manager.find(id, kAlice))->step_now(3, std::chrono::system_clock::now() + 10s, [] { return false; }).ok());
+      ASSERT_TRUE(std::filesystem::exists(dir.path + "/outputs/" + id + "/frames.log"));
+    }
+    ASSERT_TRUE(manager.cancel(cancelled, kAlice).ok());
+    EXPECT_TRUE(manager.shutdown().empty());
+  }
+  server::SessionManager next(dir.path, quiet_limits(), {"test", "test"});
+  ASSERT_EQ(next.recover(), 1);
+  EXPECT_TRUE(std::filesystem::exists(dir.path + "/outputs/" + kept + "/frames.log"));
+  EXPECT_FALSE(std::filesystem::exists(dir.path + "/outputs/" + cancelled));
+  const auto files = next.outputs(kept, kAlice);
+  ASSERT_TRUE(files.ok()) << files.status();
+  ASSERT_FALSE(files->empty());
+  EXPECT_EQ(files->front().name, "particles.h5");
+}
+
 server::ManagerLimits quotas() {
   auto limits = quiet_limits();
   limits.per_owner.sessions = 2;
