@@ -1,6 +1,8 @@
 #include "server/auth/transport.h"
 
 #include <grpcpp/security/auth_metadata_processor.h>
+#include <grpcpp/security/tls_certificate_provider.h>
+#include <grpcpp/security/tls_credentials_options.h>
 
 #include <fstream>
 #include <sstream>
@@ -85,19 +87,26 @@ absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> server_credentials(
           "anyway (anyone on the network can then read and forge calls)"));
     return grpc::InsecureServerCredentials();
   }
-  grpc::SslServerCredentialsOptions ssl;
-  const auto cert = read_pem("tls_cert", options.tls_cert);
-  if (!cert.ok()) return cert.status();
-  const auto key = read_pem("tls_key", options.tls_key);
-  if (!key.ok()) return key.status();
-  ssl.pem_key_cert_pairs.push_back({*key, *cert});
+  // Read once here so that a missing or wrong file stops the start with its name; the daemon then
+  // serves what the files hold, read again every reload interval (a renewed certificate needs no
+  // restart; a file that cannot be read keeps the one in force).
+  for (const auto& [flag, path] : {std::pair{"tls_cert", options.tls_cert}, std::pair{"tls_key", options.tls_key},
+                                   std::pair{"tls_client_ca", options.tls_client_ca}})
+    if (!path.empty())
+      if (const auto pem = read_pem(flag, path); !pem.ok()) return pem.status();
+  if (options.reload_interval_s < 1) return absl::InvalidArgumentError("--tls_reload_interval: at least 1s");
+  const auto files = options.tls_client_ca.empty()
+                         ? std::make_shared<grpc::experimental::FileWatcherCertificateProvider>(
+                               options.tls_key, options.tls_cert, options.reload_interval_s)
+                         : std::make_shared<grpc::experimental::FileWatcherCertificateProvider>(
+                               options.tls_key, options.tls_cert, options.tls_client_ca, options.reload_interval_s);
+  grpc::experimental::TlsServerCredentialsOptions tls(files);
+  tls.watch_identity_key_cert_pairs();
   if (!options.tls_client_ca.empty()) {
-    const auto ca = read_pem("tls_client_ca", options.tls_client_ca);
-    if (!ca.ok()) return ca.status();
-    ssl.pem_root_certs = *ca;
-    ssl.client_certificate_request = GRPC_SSL_REQUEST_AND_REQUIRE_CLIENT_CERTIFICATE_AND_VERIFY;
+    tls.watch_root_certs();
+    tls.set_cert_request_type(GRPC_SSL_REQUEST_AND_REQUIRE_CLIENT_CERTIFICATE_AND_VERIFY);
   }
-  auto credentials = grpc::SslServerCredentials(ssl);
+  auto credentials = grpc::experimental::TlsServerCredentials(tls);
   credentials->SetAuthMetadataProcessor(std::make_shared<TokenProcessor>(std::move(authenticator)));
   return credentials;
 }

@@ -20,6 +20,7 @@ struct TransportOptions {
   std::string tls_key;
   std::string tls_client_ca;   // PEM; set: client certificates required and verified against it
   bool allow_insecure = false; // plaintext on a non-loopback address
+  unsigned reload_interval_s = 60;  // the PEM files are read again this often (renewed certificates)
 };
 
 // True for unix:/unix-abstract: addresses, localhost and the loopback ranges 127.0.0.0/8 and ::1.

@@ -66,6 +66,8 @@ ABSL_FLAG(std::string, tls_client_ca, "",
 ABSL_FLAG(std::string, tokens_file, "",
           "lines `<sha256 hex of a token> <owner> <user|admin>`: calls must send `authorization: Bearer <token>`; "
           "reloaded on SIGHUP");
+ABSL_FLAG(absl::Duration, tls_reload_interval, absl::Minutes(1),
+          "how often the --tls_* files are read again: a renewed certificate or CA is served without a restart");
 ABSL_FLAG(bool, allow_insecure, false,
           "serve an address that is not loopback or a Unix socket without TLS or without authenticating callers");
 ABSL_FLAG(bool, reflection, true, "serve gRPC reflection (grpcurl, grpc_cli)");
@@ -154,6 +156,15 @@ int main(int argc, char** argv) {
   if (limits.per_owner.memory_bytes < 0) return fail_start("--owner_max_memory: must not be negative");
   if (limits.per_owner.running < 0) return fail_start("--owner_max_running: must not be negative");
 
+  // Signals are taken by one thread with sigwait: block them before any other thread starts (the TLS
+  // file watcher's included: a SIGHUP delivered to it would end the daemon).
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGHUP);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
   std::shared_ptr<lbsolid::server::auth::TokenTable> tokens;
   if (!absl::GetFlag(FLAGS_tokens_file).empty()) {
     try {
@@ -166,7 +177,9 @@ int main(int argc, char** argv) {
       tokens, !absl::GetFlag(FLAGS_tls_client_ca).empty());
   const lbsolid::server::auth::TransportOptions transport{
       absl::GetFlag(FLAGS_listen), absl::GetFlag(FLAGS_tls_cert), absl::GetFlag(FLAGS_tls_key),
-      absl::GetFlag(FLAGS_tls_client_ca), absl::GetFlag(FLAGS_allow_insecure)};
+      absl::GetFlag(FLAGS_tls_client_ca), absl::GetFlag(FLAGS_allow_insecure),
+      static_cast<unsigned>(std::clamp<int64_t>(absl::ToInt64Seconds(absl::GetFlag(FLAGS_tls_reload_interval)), 0,
+                                                24 * 3600))};
   const auto credentials = lbsolid::server::auth::server_credentials(transport, authenticator);
   if (!credentials.ok()) return fail_start(std::string(credentials.status().message()));
   if (!lbsolid::server::auth::is_local_address(transport.listen)) {
@@ -179,13 +192,6 @@ int main(int argc, char** argv) {
   }
 
   raise_descriptor_limit();
-  // Signals are taken by one thread with sigwait: block them before any other thread starts.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGTERM);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGHUP);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   std::unique_ptr<lbsolid::server::SessionManager> manager;
   try {

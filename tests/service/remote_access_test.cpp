@@ -7,6 +7,7 @@
 #include <signal.h>
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <thread>
 
@@ -168,6 +169,35 @@ TEST_F(RemoteAccess, TlsWithTokensAuthenticatesEveryCallBeforeItReachesASession)
   EXPECT_NE(log.find("SIGHUP: the tokens in force stay"), std::string::npos) << log;
   for (const char* secret : {"alice-secret", "bob-secret", "root-secret", "dave-secret", "guessed"})
     EXPECT_EQ(log.find(secret), std::string::npos) << secret << " in the log";
+}
+
+// An operator renews the daemon's certificate in place (here: one signed by another CA, so that
+// which one is served shows): within the reload interval new connections get the new one, with
+// no restart; the running daemon keeps its sessions.
+TEST_F(RemoteAccess, ARenewedCertificateIsServedWithoutARestart) {
+  const std::string cert = dir_.path + "/live.pem", key = dir_.path + "/live.key";
+  std::filesystem::copy_file(certs_.server_cert, cert);
+  std::filesystem::copy_file(certs_.server_key, key);
+  const Tls old_ca = with_token(certs_.ca, "alice-secret"), new_ca = with_token(certs_.other_ca, "alice-secret");
+  auto flags = tls_flags(cert, key);
+  flags.push_back("--tls_reload_interval=1s");
+  DaemonProcess daemon(dir_.path + "/data", flags, {}, {credentials_for(old_ca), log_});
+  v1::Session session;
+  ASSERT_TRUE(create_session(*stub_for(daemon, old_ca), small_channel_with_disk(24, 12), &session).ok());
+  EXPECT_TRUE(has_status(server_info(*stub_for(daemon, new_ca)), grpc::StatusCode::UNAVAILABLE));
+
+  // Renewed as operators do: each file written beside and renamed over the old one.
+  std::filesystem::copy_file(certs_.renewed_key, key + ".new");
+  std::filesystem::copy_file(certs_.renewed_cert, cert + ".new");
+  std::filesystem::rename(key + ".new", key);
+  std::filesystem::rename(cert + ".new", cert);
+  const auto give_up = std::chrono::steady_clock::now() + 15s;
+  while (!server_info(*stub_for(daemon, new_ca)).ok() && std::chrono::steady_clock::now() < give_up)
+    std::this_thread::sleep_for(100ms);
+  EXPECT_TRUE(server_info(*stub_for(daemon, new_ca)).ok()) << log_of(log_);
+  EXPECT_TRUE(has_status(server_info(*stub_for(daemon, old_ca)), grpc::StatusCode::UNAVAILABLE));
+  v1::Session same;
+  EXPECT_TRUE(get_session(*stub_for(daemon, new_ca), session.id(), &same).ok());
 }
 
 TEST_F(RemoteAccess, AClientRefusesAnExpiredServerCertificate) {

@@ -43,6 +43,7 @@ TestCertificates make_test_certificates(const std::string& dir) {
                      ca + ".pem -days 2 -subj '/CN=lbsolid test " + ca + "'");
   signed_certificate(dir, "server", "/CN=localhost", "ca", 2);
   signed_certificate(dir, "expired", "/CN=localhost", "ca", -1);
+  signed_certificate(dir, "renewed", "/CN=localhost", "other_ca", 2);
   signed_certificate(dir, "client", "/CN=" + c.client_name, "ca", 2);
   signed_certificate(dir, "stranger", "/CN=" + c.client_name, "other_ca", 2);
   const auto path = [&](const std::string& file) { return dir + "/" + file; };
@@ -52,6 +53,8 @@ TestCertificates make_test_certificates(const std::string& dir) {
   c.server_key = path("server.key");
   c.expired_cert = path("expired.pem");
   c.expired_key = path("expired.key");
+  c.renewed_cert = path("renewed.pem");
+  c.renewed_key = path("renewed.key");
   c.client_cert = path("client.pem");
   c.client_key = path("client.key");
   c.stranger_cert = path("stranger.pem");

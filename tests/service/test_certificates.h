@@ -11,6 +11,7 @@ struct TestCertificates {
   std::string ca, other_ca;                  // PEM certificates of the two CAs
   std::string server_cert, server_key;       // by `ca`, valid for two days
   std::string expired_cert, expired_key;     // by `ca`, expired a day ago
+  std::string renewed_cert, renewed_key;     // by `other_ca`, valid for two days (a renewal)
   std::string client_cert, client_key;       // by `ca`, CN `client_name`
   std::string stranger_cert, stranger_key;   // by `other_ca`, CN `client_name`
   std::string client_name = "carol";
