@@ -95,6 +95,9 @@ absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> server_credentials(
     if (!path.empty())
       if (const auto pem = read_pem(flag, path); !pem.ok()) return pem.status();
   if (options.reload_interval_s < 1) return absl::InvalidArgumentError("--tls_reload_interval: at least 1s");
+  // Made before the file watcher starts gRPC's threads, which then call it: a thread started after
+  // this write is ordered after it.
+  auto processor = std::make_shared<TokenProcessor>(std::move(authenticator));
   const auto files = options.tls_client_ca.empty()
                          ? std::make_shared<grpc::experimental::FileWatcherCertificateProvider>(
                                options.tls_key, options.tls_cert, options.reload_interval_s)
@@ -107,7 +110,7 @@ absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> server_credentials(
     tls.set_cert_request_type(GRPC_SSL_REQUEST_AND_REQUIRE_CLIENT_CERTIFICATE_AND_VERIFY);
   }
   auto credentials = grpc::experimental::TlsServerCredentials(tls);
-  credentials->SetAuthMetadataProcessor(std::make_shared<TokenProcessor>(std::move(authenticator)));
+  credentials->SetAuthMetadataProcessor(std::move(processor));
   return credentials;
 }
 
