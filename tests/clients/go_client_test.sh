@@ -47,21 +47,28 @@ fail() {
   exit 1
 }
 
-# Under timeout(1) (which passes SIGTERM on): should this script be killed before its trap runs
-# (ctest's 120 s limit), the daemon still goes away on its own.
-timeout 110 "$lbsolidd" --listen 127.0.0.1:0 --port_file "$work/port" --data_dir "$work/data" \
-  --workers 2 --log_level warn >"$work/daemon.log" 2>&1 &
-daemon_pid=$!
+# Starts lbsolidd with the given extra flags on a free port and sets $address. Under timeout(1)
+# (which passes SIGTERM on): should this script be killed before its trap runs (ctest's 120 s
+# limit), the daemon still goes away on its own.
+start_daemon() {  # data directory, flags...
+  data=$1
+  shift
+  rm -f "$work/port"
+  timeout 110 "$lbsolidd" --listen 127.0.0.1:0 --port_file "$work/port" --data_dir "$data" \
+    --log_level warn "$@" >"$work/daemon.log" 2>&1 &
+  daemon_pid=$!
+  # The daemon writes the port file through a rename once it serves: it is whole when it appears.
+  i=0
+  while [ ! -s "$work/port" ]; do
+    kill -0 "$daemon_pid" 2>/dev/null || { wait "$daemon_pid" || true; daemon_pid=; fail "lbsolidd $* exited at start"; }
+    [ $i -lt 400 ] || fail "lbsolidd $* did not write its port file within 20 s"
+    sleep 0.05
+    i=$((i + 1))
+  done
+  address=127.0.0.1:$(cat "$work/port")
+}
 
-# The daemon writes the port file through a rename once it serves: it is whole when it appears.
-i=0
-while [ ! -s "$work/port" ]; do
-  kill -0 "$daemon_pid" 2>/dev/null || { wait "$daemon_pid" || true; daemon_pid=; fail "lbsolidd exited at start"; }
-  [ $i -lt 400 ] || fail "lbsolidd did not write its port file within 20 s"
-  sleep 0.05
-  i=$((i + 1))
-done
-address=127.0.0.1:$(cat "$work/port")
+start_daemon "$work/data" --workers 2
 echo "lbsolidd serves on $address"
 
 "$client" --address "$address" --scenario "$scenario" --steps "$steps" --every "$every" --print-hex \
@@ -91,19 +98,7 @@ ec="-newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes"
     -extfile san.cnf) >"$work/openssl.log" 2>&1 || fail "openssl: $(cat "$work/openssl.log")"
 echo "$(printf %s go-secret | sha256sum | cut -d' ' -f1) go-user user" >"$work/tokens"
 printf 'go-secret\n' >"$work/token"
-rm -f "$work/port"
-timeout 110 "$lbsolidd" --listen 127.0.0.1:0 --port_file "$work/port" --data_dir "$work/data-tls" \
-  --tls_cert "$work/daemon.pem" --tls_key "$work/daemon.key" --tokens_file "$work/tokens" \
-  --log_level warn >"$work/daemon.log" 2>&1 &
-daemon_pid=$!
-i=0
-while [ ! -s "$work/port" ]; do
-  kill -0 "$daemon_pid" 2>/dev/null || { wait "$daemon_pid" || true; daemon_pid=; fail "lbsolidd (TLS) exited at start"; }
-  [ $i -lt 400 ] || fail "lbsolidd (TLS) did not write its port file within 20 s"
-  sleep 0.05
-  i=$((i + 1))
-done
-address=127.0.0.1:$(cat "$work/port")
+start_daemon "$work/data-tls" --tls_cert "$work/daemon.pem" --tls_key "$work/daemon.key" --tokens_file "$work/tokens"
 tls="--address $address --scenario $scenario --steps $steps --every $every --timeout 30 --tls-ca $work/ca.pem"
 "$client" $tls --token-file "$work/token" >/dev/null 2>"$work/client.err" ||
   fail "lbsolid-go-profiles over TLS with its token exited with status $?: $(cat "$work/client.err")"

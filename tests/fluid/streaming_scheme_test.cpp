@@ -3,6 +3,8 @@
 // step counts, with any number of threads.
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include "fluid/fluid_test_support.h"
 
 namespace lbsolid::testing {
@@ -79,6 +81,20 @@ TYPED_TEST(StreamingSchemeTest, InPlaceMatchesTwoBufferWithAMovingWall) {
   expect_same_populations(two_buffer, in_place, 1e-15);
 }
 
+// walled_box() (or the same box periodic on every side) in `scheme`, with a density and velocity
+// that vary from node to node: the observers' tests read it back node by node and row by row.
+template <class L>
+std::unique_ptr<FluidLattice<L, double>> varied_box(bool walled, StreamingScheme scheme) {
+  FluidConfig c = walled_box<L>();
+  if (!walled)
+    for (auto& side : c.sides) side = fluid::SideBoundary{};  // periodic
+  c.streaming = scheme;
+  auto fluid = std::make_unique<FluidLattice<L, double>>(c);
+  fluid->initialize([](int x, int y, int z) { return 1.0 + 0.001 * (x - y + z); },
+                    [](int x, int y, int) { return Vec3{0.01 * std::sin(0.7 * x), 0.02 * std::cos(0.3 * y), 0}; });
+  return fluid;
+}
+
 // The velocity profile streamed to clients takes each row's populations through one set of
 // sources for the interior nodes (add_row_velocity_x); it must give the very values that
 // velocity(x, y, z), which resolves every node through its own sources, gives: in both schemes,
@@ -88,13 +104,9 @@ TYPED_TEST(StreamingSchemeTest, RowVelocitySumsEqualPerNodeVelocitiesBitForBit) 
   using L = TypeParam;
   for (const bool walled : {true, false}) {
     for (const auto scheme : {StreamingScheme::kTwoBuffer, StreamingScheme::kInPlace}) {
-      FluidConfig c = walled_box<L>();
-      if (!walled)
-        for (auto& side : c.sides) side = fluid::SideBoundary{};  // periodic
-      c.streaming = scheme;
-      FluidLattice<L, double> fluid(c);
-      fluid.initialize([](int x, int y, int z) { return 1.0 + 0.001 * (x - y + z); },
-                       [](int x, int y, int) { return Vec3{0.01 * std::sin(0.7 * x), 0.02 * std::cos(0.3 * y), 0}; });
+      auto owned = varied_box<L>(walled, scheme);
+      auto& fluid = *owned;
+      const FluidConfig& c = fluid.config();
       for (long steps : {0L, 1L, 1L, 6L}) {
         fluid.run(steps);
         for (int z = 0; z < c.nz; ++z)
@@ -118,13 +130,9 @@ TYPED_TEST(StreamingSchemeTest, RowMomentsEqualPerNodeMomentsBitForBit) {
   using L = TypeParam;
   for (const bool walled : {true, false}) {
     for (const auto scheme : {StreamingScheme::kTwoBuffer, StreamingScheme::kInPlace}) {
-      FluidConfig c = walled_box<L>();
-      if (!walled)
-        for (auto& side : c.sides) side = fluid::SideBoundary{};
-      c.streaming = scheme;
-      FluidLattice<L, double> fluid(c);
-      fluid.initialize([](int x, int y, int z) { return 1.0 + 0.001 * (x - y + z); },
-                       [](int x, int y, int) { return Vec3{0.01 * std::sin(0.7 * x), 0.02 * std::cos(0.3 * y), 0}; });
+      auto owned = varied_box<L>(walled, scheme);
+      auto& fluid = *owned;
+      const FluidConfig& c = fluid.config();
       for (long steps : {0L, 1L, 1L, 6L}) {
         fluid.run(steps);
         for (int z = 0; z < c.nz; ++z)
