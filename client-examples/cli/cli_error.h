@@ -6,6 +6,7 @@
 #include <string>
 
 #include "exit_codes.h"
+#include "result_writer.h"
 
 namespace lbsolid::cli {
 
@@ -23,5 +24,9 @@ struct RpcError : std::runtime_error {
   std::string detail;  // the status message alone
   ExitCode exit_code() const { return exit_code_for(grpc::Status(code, detail)); }
 };
+
+// What a failure is in the JSON result: an RpcError its gRPC code and call, a UsageError USAGE, a
+// CliError BAD_INPUT or TRANSIENT by its exit code, anything else INTERNAL (exit 3).
+ResultError result_error(const std::exception& e);
 
 }  // namespace lbsolid::cli

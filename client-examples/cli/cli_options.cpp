@@ -102,8 +102,9 @@ double parse_seconds(const std::string& flag, const std::string& text) {
   return value;
 }
 
-CommandLine parse_command_line(const std::vector<std::string>& args, const char* env_server) {
-  CommandLine line;
+namespace {
+
+void parse_into(CommandLine& line, const std::vector<std::string>& args, const char* env_server) {
   bool server_given = false, only_positionals = false, help_command = false;
   const CommandSpec* command = nullptr;
   for (std::size_t i = 0; i < args.size(); ++i) {
@@ -159,12 +160,24 @@ CommandLine parse_command_line(const std::vector<std::string>& args, const char*
     line.flags[name] = value;
   }
   if (!server_given && env_server && *env_server) line.global.server = env_server;
-  if (line.help) return line;
+  if (line.help) return;
   if (!command) throw UsageError("no command given");
   if (line.positional.size() < command->positionals.size())
     throw UsageError(command->name + ": missing " + command->positionals[line.positional.size()]);
   if (line.positional.size() > command->positionals.size())
     throw UsageError(command->name + ": unexpected argument '" + line.positional[command->positionals.size()] + "'");
+}
+
+}  // namespace
+
+CommandLine parse_command_line(const std::vector<std::string>& args, const char* env_server) {
+  CommandLine line;
+  try {
+    parse_into(line, args, env_server);
+  } catch (UsageError& e) {
+    e.command = line.command;
+    throw;
+  }
   return line;
 }
 

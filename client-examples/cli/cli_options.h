@@ -15,6 +15,7 @@ namespace lbsolid::cli {
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
+  std::string command;  // the command named before the problem was found, if any
 };
 
 inline constexpr const char* kDefaultServer = "127.0.0.1:50051";

@@ -1,12 +1,13 @@
 #pragma once
 // The commands, one function each: parse their options from the command line, call the daemon,
-// print one JSON object (--json) or human text on stdout, return the exit code. Failures are
-// thrown (UsageError, CliError, RpcError) and reported by main().
+// print one JSON object (--json, the schema of result_writer.h) or human text on stdout, return
+// the exit code. Failures are thrown (UsageError, CliError, RpcError) and reported by main().
 #include <cstdio>
 #include <string>
 
 #include "cli_options.h"
 #include "lbsolid/v1/simulation.pb.h"
+#include "result_writer.h"
 
 namespace lbsolid::cli {
 
@@ -25,10 +26,10 @@ int cmd_restore(const CommandLine& line);
 int cmd_watch(const CommandLine& line);       // commands_watch.cpp
 int cmd_fetch(const CommandLine& line);       // commands_fetch.cpp
 
-// Prints `json` or `text` (a newline is added) on stdout, as --json asks, and flushes: output
-// may be read line by line through a pipe.
-inline void emit(const CommandLine& line, const std::string& json, const std::string& text) {
-  const std::string& out = line.global.json ? json : text;
+// Prints the result as JSON or `text` (a newline is added) on stdout, as --json asks, and
+// flushes: output may be read line by line through a pipe.
+inline void emit(const CommandLine& line, const CommandResult& result, const std::string& text) {
+  const std::string out = line.global.json ? result_json(result) : text;
   std::fputs(out.c_str(), stdout);
   if (out.empty() || out.back() != '\n') std::fputc('\n', stdout);
   std::fflush(stdout);

@@ -21,20 +21,17 @@ int cmd_fetch(const CommandLine& line) {
   if (error) throw CliError(kExitBadInput, dir.string() + ": " + error.message());
 
   Daemon daemon(line.global);
+  CommandResult result;
+  result.command = line.command;
+  result.session_id = session_id;
+  result.wrote_files = true;
   if (!line.has("now")) {
-    const auto files = download_outputs(daemon, session_id, dir.string(), /*with_checkpoints=*/true);
-    std::vector<std::string> listed, text;
-    for (const auto& f : files) {
-      listed.push_back(JsonObject()
-                           .string("name", f.name)
-                           .integer("bytes", static_cast<long long>(f.bytes))
-                           .string("sha256", f.sha256)
-                           .str());
-      text.push_back("wrote " + (dir / f.name).string() + " (" + std::to_string(f.bytes) + " bytes)");
-    }
-    std::string joined = files.empty() ? session_id + ": nothing recorded (scenario.outputs) and no checkpoints" : "";
-    for (const auto& t : text) joined += (joined.empty() ? "" : "\n") + t;
-    emit(line, JsonObject().string("session_id", session_id).raw("files", json_array(listed)).str(), joined);
+    result.files = download_outputs(daemon, session_id, dir.string(), /*with_checkpoints=*/true);
+    std::string text =
+        result.files.empty() ? session_id + ": nothing recorded (scenario.outputs) and no checkpoints" : "";
+    for (const auto& f : result.files)
+      text += (text.empty() ? "" : "\n") + ("wrote " + (dir / f.name).string() + " (" + std::to_string(f.bytes) + " bytes)");
+    emit(line, result, text);
     return kExitOk;
   }
   const FetchedFields fetched = fetch_fields(daemon, session_id);
@@ -42,14 +39,16 @@ int cmd_fetch(const CommandLine& line) {
   write_field_snapshot(h5, fetched);
   const std::string xdmf = lbsolid::server::storage::xdmf_path_for(h5);
   const auto& shape = fetched.fields.shape;
-  emit(line,
-       JsonObject()
-           .string("session_id", session_id)
-           .integer("step", fetched.step)
-           .raw("shape", json_array(std::vector<double>{double(shape[2]), double(shape[1]), double(shape[0])}))
-           .string("file", h5)
-           .string("xdmf", xdmf)
-           .str(),
+  result.step = fetched.step;
+  result.files = describe_files(dir.string(), {"fields.h5", std::filesystem::path(xdmf).filename().string()});
+  result.add("fields", JsonObject()
+                           .integer("step", fetched.step)
+                           .raw("shape", json_array(std::vector<double>{double(shape[2]), double(shape[1]),
+                                                                        double(shape[0])}))
+                           .string("file", h5)
+                           .string("xdmf", xdmf)
+                           .str());
+  emit(line, result,
        session_id + " step " + std::to_string(fetched.step) + ": appended density and velocity (" +
            std::to_string(shape[0]) + " x " + std::to_string(shape[1]) + " x " + std::to_string(shape[2]) + ") to " +
            h5 + " (" + xdmf + ")");

@@ -11,9 +11,11 @@ namespace {
 
 using lbsolid::v1::Session;
 
-int print_session(const CommandLine& line, const Session& session) {
-  emit(line, session_json(session), session_line(session));
-  return kExitOk;
+int print_session(const CommandLine& line, const Session& session, int exit_code = kExitOk) {
+  CommandResult result = session_result(line.command, session);
+  result.exit_code = exit_code;
+  emit(line, result, session_line(session));
+  return exit_code;
 }
 
 // Pause, Resume, Cancel: a request holding only the session id, answered with the session.
@@ -37,7 +39,7 @@ int cmd_status(const CommandLine& line) {
   lbsolid::v1::GetSessionRequest request;
   request.set_session_id(line.positional.at(0));
   const Session session = daemon.call("GetSession", &Stub::GetSession, request);
-  emit(line, session_json(session), session_text(session));
+  emit(line, session_result(line.command, session), session_text(session));
   return kExitOk;
 }
 
@@ -51,7 +53,9 @@ int cmd_list(const CommandLine& line) {
     text += session_line(s) + "\n";
   }
   if (text.empty()) text = "no sessions";
-  emit(line, "{\"sessions\":" + json_array(sessions) + "}", text);
+  CommandResult result;
+  result.command = line.command;
+  emit(line, result.add("sessions", json_array(sessions)), text);
   return kExitOk;
 }
 
@@ -61,7 +65,9 @@ int cmd_info(const CommandLine& line) {
   if (info.api_version() != "lbsolid.v1")
     std::fprintf(stderr, "lbsolid: warning: the daemon speaks %s, this client lbsolid.v1\n",
                  info.api_version().c_str());
-  emit(line, server_info_json(info), server_info_text(info));
+  CommandResult result;
+  result.command = line.command;
+  emit(line, result.add("server", server_info_json(info)), server_info_text(info));
   return kExitOk;
 }
 
@@ -76,8 +82,7 @@ int cmd_run(const CommandLine& line) {
   ProgressReporter progress;
   const Session done = follow_session(daemon, options.session_id, progress);
   progress.finish();
-  print_session(line, done);
-  return outcome_exit_code(done);
+  return print_session(line, done, outcome_exit_code(done));
 }
 
 int cmd_pause(const CommandLine& line) { return session_call(line, "Pause", &Stub::Pause); }
@@ -89,8 +94,10 @@ int cmd_delete(const CommandLine& line) {
   lbsolid::v1::DeleteSessionRequest request;
   request.set_session_id(line.positional.at(0));
   daemon.call("DeleteSession", &Stub::DeleteSession, request);
-  emit(line, JsonObject().string("session_id", request.session_id()).boolean("deleted", true).str(),
-       "deleted " + request.session_id());
+  CommandResult result;
+  result.command = line.command;
+  result.session_id = request.session_id();
+  emit(line, result.add("deleted", "true"), "deleted " + request.session_id());
   return kExitOk;
 }
 
@@ -100,7 +107,11 @@ int cmd_checkpoint(const CommandLine& line) {
   request.set_session_id(line.positional.at(0));
   const auto checkpoint = daemon.call("Checkpoint", &Stub::Checkpoint, request);
   // Human output is the id alone, so that `id=$(lbsolid checkpoint s-000001)` works.
-  emit(line, checkpoint_json(checkpoint), checkpoint.checkpoint_id());
+  CommandResult result;
+  result.command = line.command;
+  result.session_id = request.session_id();
+  result.step = checkpoint.step();
+  emit(line, result.add("checkpoint", checkpoint_json(checkpoint)), checkpoint.checkpoint_id());
   return kExitOk;
 }
 

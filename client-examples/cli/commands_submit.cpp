@@ -60,12 +60,12 @@ Session start(Daemon& daemon, const Session& created, long steps) {
   return daemon.call("Run", &Stub::Run, run);
 }
 
-std::string files_text(const std::string& dir, const RunRecord& record) {
+std::string files_text(const std::string& dir, const CommandResult& result) {
   std::string text;
-  for (const auto& f : record.files)
+  for (const auto& f : result.files)
     text += "wrote " + (std::filesystem::path(dir) / f.name).string() + " (" + std::to_string(f.bytes) + " bytes)\n";
   text += "wrote " + (std::filesystem::path(dir) / "status.json").string();
-  if (!record.error.empty()) text += "\nerror: " + record.error;
+  if (result.error) text += "\nerror: " + result.error->message;
   return text;
 }
 
@@ -90,7 +90,7 @@ int cmd_submit(const CommandLine& line) {
 
   if (!options.wait) {
     const Session started = start(daemon, created, options.steps);
-    emit(line, session_json(started), session_line(started));
+    emit(line, session_result(line.command, started), session_line(started));
     return kExitOk;
   }
   ProgressReporter progress;
@@ -98,41 +98,44 @@ int cmd_submit(const CommandLine& line) {
     start(daemon, created, options.steps);
     const Session done = follow_session(daemon, created.id(), progress);
     progress.finish();
-    emit(line, session_json(done), session_line(done));
-    return outcome_exit_code(done);
+    CommandResult result = session_result(line.command, done);
+    result.exit_code = outcome_exit_code(done);
+    emit(line, result, session_line(done));
+    return result.exit_code;
   }
 
   // --out: the daemon records the run (scenario.outputs); from here on every failure ends up in
   // status.json rather than being thrown.
-  RunRecord record;
-  record.session_id = created.id();
   Session last = created;
+  std::vector<FileEntry> files;
+  std::optional<ResultError> error;
+  int exit_code = kExitOk;
   try {
     last = start(daemon, created, options.steps);
     last = follow_session(daemon, created.id(), progress, &last);
-    record.exit_code = outcome_exit_code(last);
+    exit_code = outcome_exit_code(last);
     progress.finish();
-    record.files = download_outputs(daemon, created.id(), options.out_dir, /*with_checkpoints=*/false);
-  } catch (const RpcError& e) {
-    record.error = e.what();
-    record.exit_code = e.exit_code();
+    files = download_outputs(daemon, created.id(), options.out_dir, /*with_checkpoints=*/false);
   } catch (const CliError& e) {
-    record.error = e.what();
-    record.exit_code = e.exit_code;
+    error = result_error(e);
+  } catch (const RpcError& e) {
+    error = result_error(e);
   }
   progress.finish();
-  if (!record.error.empty()) std::fprintf(stderr, "lbsolid: %s\n", record.error.c_str());
-  record.state = state_name(last.state());
-  record.step = last.step();
-  record.target_step = last.target_step();
-  record.message = last.message();
+  if (error) std::fprintf(stderr, "lbsolid: %s\n", error->message.c_str());
+  CommandResult record = session_result(line.command, last);
+  record.files = std::move(files);
+  record.wrote_files = true;
+  record.error = error;
+  record.exit_code = error ? error->exit_code : exit_code;
   try {
-    write_file_atomically((std::filesystem::path(options.out_dir) / "status.json").string(), status_json(record) + "\n");
+    write_file_atomically((std::filesystem::path(options.out_dir) / "status.json").string(), result_json(record) + "\n");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "lbsolid: %s\n", e.what());
+    if (!record.error) record.error = ResultError{"BAD_INPUT", "", e.what(), kExitBadInput};
     if (record.exit_code == kExitOk) record.exit_code = kExitBadInput;
   }
-  emit(line, status_json(record), session_line(last) + "\n" + files_text(options.out_dir, record));
+  emit(line, record, session_line(last) + "\n" + files_text(options.out_dir, record));
   return record.exit_code;
 }
 

@@ -37,16 +37,22 @@ int cmd_validate(const CommandLine& line) {
   for (const auto& warning : warnings) text += "  warning: " + warning + "\n";
   text += count_line(answer.problems_total(), answer.problems_size(), "problems") + ", " +
           count_line(answer.warnings_total(), answer.warnings_size(), "warnings");
-  const std::string json = JsonObject()
+  CommandResult result;
+  result.command = line.command;
+  result.exit_code = valid ? kExitOk : kExitBadInput;
+  if (!valid)
+    result.error = ResultError{"BAD_INPUT", "", file + ": " + std::to_string(answer.problems_total()) + " problems",
+                               kExitBadInput};
+  result.add("validation", JsonObject()
                                .string("file", file)
                                .boolean("valid", valid)
                                .raw("problems", json_string_array(problems))
                                .integer("problems_total", answer.problems_total())
                                .raw("warnings", json_string_array(warnings))
                                .integer("warnings_total", answer.warnings_total())
-                               .str();
-  emit(line, json, text);
-  return valid ? kExitOk : kExitBadInput;
+                               .str());
+  emit(line, result, text);
+  return result.exit_code;
 }
 
 }  // namespace lbsolid::cli

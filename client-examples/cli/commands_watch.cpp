@@ -18,7 +18,11 @@ int print_frames(const CommandLine& line, const char* rpc, grpc::ClientContext& 
   bool cancelled = false;
   while (reader.Read(&frame)) {
     if (cancelled) continue;
-    emit(line, json(frame), text(frame));
+    CommandResult result;
+    result.command = line.command;
+    result.session_id = line.positional.at(0);
+    result.step = frame.step();
+    emit(line, result.add("frame", json(frame)), text(frame));
     if (limit && ++frames >= *limit) {
       context.TryCancel();
       cancelled = true;

@@ -89,6 +89,12 @@ JsonObject& JsonObject::boolean(std::string_view k, bool value) {
   return *this;
 }
 
+JsonObject& JsonObject::null(std::string_view k) {
+  key(k);
+  body_ += "null";
+  return *this;
+}
+
 JsonObject& JsonObject::raw(std::string_view k, std::string_view json) {
   key(k);
   body_ += json;

@@ -20,6 +20,7 @@ class JsonObject {
   JsonObject& integer(std::string_view key, long long value);
   JsonObject& number(std::string_view key, double value);
   JsonObject& boolean(std::string_view key, bool value);
+  JsonObject& null(std::string_view key);
   JsonObject& raw(std::string_view key, std::string_view json);  // json must be valid JSON
   std::string str() const { return "{" + body_ + "}"; }
 

@@ -4,13 +4,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli_error.h"
 #include "cli_options.h"
 #include "commands.h"
-#include "json_writer.h"
+#include "result_writer.h"
 
 namespace {
 
@@ -28,17 +29,29 @@ const std::map<std::string, Command>& commands() {
   return table;
 }
 
-int report(bool json, const std::string& code, const std::string& rpc, const std::string& message, int exit_code) {
-  std::fprintf(stderr, "lbsolid: %s\n", message.c_str());
+// Prints the failure (stderr; with --json also the result object on stdout) and returns its exit
+// code. `line` is null when the command line itself did not parse (a UsageError may still say
+// which command it named).
+int report(bool json, const CommandLine* line, const std::exception& failure) {
+  const ResultError error = result_error(failure);
+  std::fprintf(stderr, "lbsolid: %s\n", error.message.c_str());
+  if (!json && error.code == "USAGE") std::fputs("Try 'lbsolid --help'.\n", stderr);
   if (json) {
-    JsonObject error;
-    error.string("code", code);
-    if (!rpc.empty()) error.string("rpc", rpc);
-    error.string("message", message).integer("exit_code", exit_code);
-    std::printf("%s\n", JsonObject().raw("error", error.str()).str().c_str());
+    CommandResult result;
+    if (const auto* usage = dynamic_cast<const UsageError*>(&failure)) result.command = usage->command;
+    if (line) {
+      result.command = line->command;
+      const CommandSpec* spec = find_command(line->command);
+      // Commands about a session echo its id, so a script can tell which one failed.
+      if (spec && !spec->positionals.empty() && spec->positionals[0] == "ID" && !line->positional.empty())
+        result.session_id = line->positional[0];
+    }
+    result.error = error;
+    result.exit_code = error.exit_code;
+    std::printf("%s\n", result_json(result).c_str());
     std::fflush(stdout);
   }
-  return exit_code;
+  return error.exit_code;
 }
 
 }  // namespace
@@ -48,23 +61,16 @@ int main(int argc, char** argv) {
   // Known before parsing, so that even a usage error is reported as JSON when asked.
   bool json = false;
   for (const auto& arg : args) json = json || arg == "--json";
+  std::optional<CommandLine> line;
   try {
-    const CommandLine line = parse_command_line(args, std::getenv("LBSOLID_SERVER"));
-    if (line.help) {
-      const CommandSpec* spec = line.command.empty() ? nullptr : find_command(line.command);
+    line = parse_command_line(args, std::getenv("LBSOLID_SERVER"));
+    if (line->help) {
+      const CommandSpec* spec = line->command.empty() ? nullptr : find_command(line->command);
       std::fputs(spec ? command_usage(*spec).c_str() : usage_text().c_str(), stdout);
       return kExitOk;
     }
-    return commands().at(line.command)(line);
-  } catch (const UsageError& e) {
-    report(json, "USAGE", "", e.what(), kExitBadInput);
-    if (!json) std::fputs("Try 'lbsolid --help'.\n", stderr);
-    return kExitBadInput;
-  } catch (const RpcError& e) {
-    return report(json, status_code_name(e.code), e.rpc, e.what(), e.exit_code());
-  } catch (const CliError& e) {
-    return report(json, e.exit_code == kExitBadInput ? "BAD_INPUT" : "TRANSIENT", "", e.what(), e.exit_code);
+    return commands().at(line->command)(*line);
   } catch (const std::exception& e) {
-    return report(json, "INTERNAL", "", e.what(), kExitTransient);
+    return report(json, line ? &*line : nullptr, e);
   }
 }

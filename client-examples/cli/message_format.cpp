@@ -87,6 +87,18 @@ std::string session_json(const lbsolid::v1::Session& s, bool with_scenario) {
   return o.str();
 }
 
+CommandResult session_result(const std::string& command, const lbsolid::v1::Session& s, bool with_scenario) {
+  CommandResult result;
+  result.command = command;
+  result.session_id = s.id();
+  result.state = state_name(s.state());
+  result.step = s.step();
+  result.target_step = s.target_step();
+  result.message = s.message();
+  result.add("session", session_json(s, with_scenario));
+  return result;
+}
+
 std::string session_line(const lbsolid::v1::Session& s) {
   char text[160];
   std::snprintf(text, sizeof text, "%-10s %-9s step %lld/%lld", s.id().c_str(), state_name(s.state()).c_str(),

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "lbsolid/v1/simulation.pb.h"
+#include "result_writer.h"
 
 namespace lbsolid::cli {
 
@@ -11,6 +12,10 @@ std::string state_name(lbsolid::v1::SessionState state);  // "DONE", "RUNNING", 
 bool is_final(lbsolid::v1::SessionState state);            // DONE, FAILED, CANCELLED
 
 std::string session_json(const lbsolid::v1::Session& session, bool with_scenario = true);
+// The result of a command about one session: its id, state, step, target and message, and the
+// whole session under "session".
+CommandResult session_result(const std::string& command, const lbsolid::v1::Session& session,
+                             bool with_scenario = true);
 std::string session_line(const lbsolid::v1::Session& session);   // "s-000001  RUNNING  step 0/100  name"
 std::string session_text(const lbsolid::v1::Session& session);   // several lines, for `status`
 

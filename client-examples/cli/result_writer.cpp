@@ -37,7 +37,27 @@ std::string combined_checksum(std::vector<FileEntry> files) {
   return hash.hex_digest();
 }
 
-std::string status_json(const RunRecord& r) {
+namespace {
+
+template <class T, class Write>
+void optional_value(JsonObject& o, std::string_view key, const std::optional<T>& value, Write write) {
+  if (value)
+    write(o, key, *value);
+  else
+    o.null(key);
+}
+
+void optional_string(JsonObject& o, std::string_view key, const std::optional<std::string>& value) {
+  optional_value(o, key, value, [](JsonObject& j, std::string_view k, const std::string& v) { j.string(k, v); });
+}
+
+void optional_integer(JsonObject& o, std::string_view key, const std::optional<long long>& value) {
+  optional_value(o, key, value, [](JsonObject& j, std::string_view k, long long v) { j.integer(k, v); });
+}
+
+}  // namespace
+
+std::string result_json(const CommandResult& r) {
   std::vector<std::string> files;
   for (const auto& f : r.files)
     files.push_back(JsonObject()
@@ -45,18 +65,28 @@ std::string status_json(const RunRecord& r) {
                         .integer("bytes", static_cast<long long>(f.bytes))
                         .string("sha256", f.sha256)
                         .str());
-  return JsonObject()
-      .integer("version", kStatusVersion)
-      .string("session_id", r.session_id)
-      .string("state", r.state)
-      .integer("step", r.step)
-      .integer("target_step", r.target_step)
-      .string("message", r.message)
-      .string("error", r.error)
-      .raw("files", json_array(files))
-      .string("checksum", combined_checksum(r.files))
-      .integer("exit_code", r.exit_code)
-      .str();
+  JsonObject o;
+  o.integer("version", kResultSchemaVersion);
+  optional_string(o, "command", r.command.empty() ? std::nullopt : std::optional(r.command));
+  optional_string(o, "session_id", r.session_id);
+  optional_string(o, "state", r.state);
+  optional_integer(o, "step", r.step);
+  optional_integer(o, "target_step", r.target_step);
+  optional_string(o, "message", r.message);
+  o.raw("files", json_array(files));
+  optional_string(o, "checksum", r.wrote_files ? std::optional(combined_checksum(r.files)) : std::nullopt);
+  if (r.error) {
+    JsonObject error;
+    error.string("code", r.error->code);
+    optional_string(error, "rpc", r.error->rpc.empty() ? std::nullopt : std::optional(r.error->rpc));
+    error.string("message", r.error->message).integer("exit_code", r.error->exit_code);
+    o.raw("error", error.str());
+  } else {
+    o.null("error");
+  }
+  o.integer("exit_code", r.exit_code);
+  for (const auto& [key, json] : r.extras) o.raw(key, json);
+  return o.str();
 }
 
 void write_file_atomically(const std::string& path, const std::string& content) {

@@ -8,13 +8,6 @@
 
 namespace lbsolid::cli {
 
-RpcError::RpcError(const std::string& rpc_name, const grpc::Status& status)
-    : std::runtime_error(rpc_name + ": " + status_code_name(status.error_code()) + ": " +
-                         (status.error_message().empty() ? "(no message)" : status.error_message())),
-      rpc(rpc_name),
-      code(status.error_code()),
-      detail(status.error_message()) {}
-
 Daemon::Daemon(const GlobalOptions& options) : options_(options) {
   grpc::ChannelArguments args;
   // Frames of large bodies can exceed gRPC's 4 MiB default; the daemon enforces its own limit

@@ -1,5 +1,5 @@
 // Unit tests of the lbsolid CLI's pure pieces: SHA-256 against the FIPS 180-2 vectors, the
-// status.json checksum, option parsing and its usage errors, the exit-code mapping, JSON text and
+// --json result schema and status.json checksum, option parsing and its usage errors, the exit-code mapping, JSON text and
 // the progress line. The commands themselves need a daemon and are tested end to end elsewhere.
 #include <gtest/gtest.h>
 
@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_error.h"
 #include "cli_options.h"
 #include "exit_codes.h"
 #include "json_writer.h"
@@ -70,23 +71,58 @@ TEST(ResultWriter, ChecksumIsOverHexStringsInNameOrder) {
   EXPECT_EQ(combined_checksum({}), sha256_hex(""));
 }
 
-TEST(ResultWriter, StatusJsonAndAtomicWrite) {
-  RunRecord r;
+// The schema's keys in their documented order, every one present: a session's result with files
+// and an error, and a result with nothing but its command (nulls).
+TEST(ResultWriter, ResultJsonHasEveryKeyOfTheSchema) {
+  CommandResult r;
+  r.command = "submit";
   r.session_id = "s-000001";
   r.state = "FAILED";
   r.step = 120;
   r.target_step = 200;
   r.message = "step 120: \"rho\" < 0";
   r.files = {{"particles.h5", 10, sha256_hex("x")}};
-  r.exit_code = 1;
-  const std::string json = status_json(r);
-  EXPECT_EQ(json.find("{\"version\":2,"), 0u) << json;
-  EXPECT_NE(json.find("\"session_id\":\"s-000001\""), std::string::npos);
-  EXPECT_NE(json.find("\"state\":\"FAILED\""), std::string::npos);
-  EXPECT_NE(json.find("\"message\":\"step 120: \\\"rho\\\" < 0\""), std::string::npos);
-  EXPECT_NE(json.find("\"checksum\":\"" + sha256_hex(sha256_hex("x")) + "\""), std::string::npos);
-  EXPECT_NE(json.find("\"exit_code\":1"), std::string::npos);
+  r.wrote_files = true;
+  r.error = ResultError{"UNAVAILABLE", "DownloadOutput", "DownloadOutput: UNAVAILABLE: gone", 3};
+  r.exit_code = 3;
+  r.add("deleted", "true");
+  EXPECT_EQ(result_json(r),
+            "{\"version\":3,\"command\":\"submit\",\"session_id\":\"s-000001\",\"state\":\"FAILED\",\"step\":120,"
+            "\"target_step\":200,\"message\":\"step 120: \\\"rho\\\" < 0\",\"files\":[{\"name\":\"particles.h5\","
+            "\"bytes\":10,\"sha256\":\"" + sha256_hex("x") + "\"}],\"checksum\":\"" + sha256_hex(sha256_hex("x")) +
+            "\",\"error\":{\"code\":\"UNAVAILABLE\",\"rpc\":\"DownloadOutput\",\"message\":\"DownloadOutput: "
+            "UNAVAILABLE: gone\",\"exit_code\":3},\"exit_code\":3,\"deleted\":true}");
 
+  CommandResult bare;
+  bare.command = "list";
+  bare.error = ResultError{"USAGE", "", "list: unexpected argument 'x'", 2};
+  bare.exit_code = 2;
+  EXPECT_EQ(result_json(bare),
+            "{\"version\":3,\"command\":\"list\",\"session_id\":null,\"state\":null,\"step\":null,"
+            "\"target_step\":null,\"message\":null,\"files\":[],\"checksum\":null,\"error\":{\"code\":\"USAGE\","
+            "\"rpc\":null,\"message\":\"list: unexpected argument 'x'\",\"exit_code\":2},\"exit_code\":2}");
+}
+
+// Each kind of failure a command throws becomes the error object its exit code documents.
+TEST(ResultWriter, FailuresBecomeErrorsWithTheirCodes) {
+  const ResultError rpc = result_error(RpcError("GetSession", grpc::Status(grpc::StatusCode::NOT_FOUND, "no s-1")));
+  EXPECT_EQ(rpc.code, "NOT_FOUND");
+  EXPECT_EQ(rpc.rpc, "GetSession");
+  EXPECT_EQ(rpc.message, "GetSession: NOT_FOUND: no s-1");
+  EXPECT_EQ(rpc.exit_code, 2);
+  EXPECT_EQ(result_error(RpcError("Step", grpc::Status(grpc::StatusCode::UNAVAILABLE, "x"))).exit_code, 3);
+  EXPECT_EQ(result_error(UsageError("--steps: missing")).code, "USAGE");
+  const ResultError bad = result_error(CliError(kExitBadInput, "f: unreadable"));
+  EXPECT_EQ(bad.code, "BAD_INPUT");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(result_error(CliError(kExitTransient, "copy differs")).code, "TRANSIENT");
+  const ResultError other = result_error(std::runtime_error("bad_alloc"));
+  EXPECT_EQ(other.code, "INTERNAL");
+  EXPECT_EQ(other.exit_code, 3);
+}
+
+TEST(ResultWriter, AtomicWriteAndFileDescriptions) {
+  const std::string json = "{\"version\":3}";
   const auto dir = std::filesystem::temp_directory_path() / "lbsolid_cli_units_status";
   std::filesystem::create_directories(dir);
   const auto path = dir / "status.json";

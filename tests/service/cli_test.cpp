@@ -1,6 +1,8 @@
 // The lbsolid CLI against a real daemon: its exit codes (0 done, 1 the run failed, 2 bad input,
 // 3 daemon unreachable), its --json output, and the files `submit --out` leaves behind.
 #include <gtest/gtest.h>
+#include <google/protobuf/struct.pb.h>
+#include <google/protobuf/util/json_util.h>
 #include <sys/wait.h>
 
 #include <cmath>
@@ -70,6 +72,7 @@ TEST_F(Cli, SubmitAndWaitExitsZeroAndWritesResults) {
   EXPECT_NE(status.str().find("\"state\":\"DONE\""), std::string::npos) << status.str();
   EXPECT_NE(status.str().find("\"step\":60"), std::string::npos) << status.str();
   EXPECT_NE(status.str().find("\"checksum\":\""), std::string::npos) << status.str();
+  EXPECT_EQ(status.str(), r.out) << "status.json is what --json printed";
 }
 
 TEST_F(Cli, BadInputExitsTwo) {
@@ -193,6 +196,112 @@ TEST_F(Cli, ASubmitKilledAtRandomMomentsAndRetriedGetsTheSameCompleteFiles) {
                                " --request-id retry-0 --out " + dir_ + "/other 2>&1");
   EXPECT_EQ(other_steps.exit_code, 2) << other_steps.out;
   EXPECT_NE(other_steps.out.find("--steps: request id retry-0"), std::string::npos) << other_steps.out;
+}
+
+// One line of --json output, parsed by protobuf's JSON parser (not the CLI's writer).
+google::protobuf::Struct parse_json(const std::string& line) {
+  google::protobuf::Struct object;
+  const auto status = google::protobuf::util::JsonStringToMessage(line, &object);
+  EXPECT_TRUE(status.ok()) << status.ToString() << ": " << line;
+  return object;
+}
+
+// Every line of `out` is one object of schema version 3 (result_writer.h) for `command`: every
+// key of the schema there, files a list, error null exactly when the command did what it was
+// asked (exit 0, or 1 for a run whose own outcome is FAILED/CANCELLED), exit_code the process's.
+// Returns the objects.
+std::vector<google::protobuf::Struct> expect_schema(const Result& r, const std::string& command) {
+  std::vector<google::protobuf::Struct> objects;
+  std::istringstream lines(r.out);
+  for (std::string line; std::getline(lines, line);) {
+    SCOPED_TRACE(command + ": " + line);
+    const auto o = parse_json(line);
+    const auto& f = o.fields();
+    for (const char* key : {"version", "command", "session_id", "state", "step", "target_step", "message", "files",
+                            "checksum", "error", "exit_code"})
+      EXPECT_TRUE(f.count(key)) << key;
+    if (!f.count("version") || !f.count("exit_code") || !f.count("error") || !f.count("files")) continue;
+    EXPECT_EQ(f.at("version").number_value(), 3);
+    EXPECT_EQ(f.at("command").string_value(), command);
+    EXPECT_TRUE(f.at("files").has_list_value());
+    EXPECT_EQ(f.at("exit_code").number_value(), r.exit_code);
+    const bool failed = r.exit_code > 1;
+    EXPECT_EQ(f.at("error").has_struct_value(), failed);
+    if (failed) {
+      const auto& error = f.at("error").struct_value().fields();
+      EXPECT_FALSE(error.at("code").string_value().empty());
+      EXPECT_EQ(error.at("exit_code").number_value(), r.exit_code);
+    }
+    objects.push_back(o);
+  }
+  EXPECT_FALSE(objects.empty()) << command << " printed nothing on stdout";
+  return objects;
+}
+
+const google::protobuf::Value& field(const google::protobuf::Struct& o, const char* key) {
+  static const google::protobuf::Value missing;
+  const auto at = o.fields().find(key);
+  return at == o.fields().end() ? missing : at->second;
+}
+
+// Each command's --json answer (and each failure's) is an object of the one documented schema,
+// with the session, step and files where the command has them.
+TEST_F(Cli, EveryCommandsJsonFollowsOneSchema) {
+  const auto scenario = write_file(dir_, "small.textproto", kSmallScenario);
+  const auto done = expect_schema(cli(server() + "--json submit " + scenario + " --steps 40 --wait"), "submit");
+  ASSERT_EQ(done.size(), 1u);
+  const std::string id = field(done[0], "session_id").string_value();
+  ASSERT_FALSE(id.empty());
+  EXPECT_EQ(field(done[0], "state").string_value(), "DONE");
+  EXPECT_EQ(field(done[0], "step").number_value(), 40);
+  EXPECT_EQ(field(done[0], "target_step").number_value(), 40);
+  EXPECT_TRUE(field(done[0], "session").has_struct_value());
+
+  EXPECT_EQ(field(expect_schema(cli(server() + "--json status " + id), "status")[0], "step").number_value(), 40);
+  const auto list = expect_schema(cli(server() + "--json list"), "list")[0];
+  EXPECT_TRUE(field(list, "session_id").has_null_value());
+  ASSERT_TRUE(field(list, "sessions").has_list_value());
+  EXPECT_EQ(field(list, "sessions").list_value().values_size(), 1);
+  EXPECT_TRUE(field(expect_schema(cli(server() + "--json info"), "info")[0], "server").has_struct_value());
+
+  expect_schema(cli(server() + "--json run " + id + " --steps 1000000"), "run");
+  EXPECT_EQ(field(expect_schema(cli(server() + "--json pause " + id), "pause")[0], "state").string_value(), "PAUSED");
+  const auto checkpoint = expect_schema(cli(server() + "--json checkpoint " + id), "checkpoint")[0];
+  EXPECT_EQ(field(checkpoint, "session_id").string_value(), id);
+  const std::string checkpoint_id =
+      field(field(checkpoint, "checkpoint").struct_value(), "checkpoint_id").string_value();
+  EXPECT_EQ(field(expect_schema(cli(server() + "--json resume " + id), "resume")[0], "state").string_value(), "RUNNING");
+  const auto frames = expect_schema(cli(server() + "--json watch " + id + " --profiles --frames 2"), "watch");
+  EXPECT_EQ(frames.size(), 2u);
+  for (const auto& frame : frames) {
+    EXPECT_EQ(field(frame, "session_id").string_value(), id);
+    EXPECT_EQ(field(frame, "step").number_value(), field(field(frame, "frame").struct_value(), "step").number_value());
+  }
+  EXPECT_EQ(field(expect_schema(cli(server() + "--json cancel " + id), "cancel")[0], "state").string_value(),
+            "CANCELLED");
+  const auto restored = expect_schema(cli(server() + "--json restore " + checkpoint_id), "restore")[0];
+  EXPECT_EQ(field(restored, "state").string_value(), "PAUSED");
+
+  const auto fetched = expect_schema(cli(server() + "--json fetch " + id + " --out " + dir_ + "/fetched"), "fetch")[0];
+  ASSERT_EQ(field(fetched, "files").list_value().values_size(), 1);  // the checkpoint
+  EXPECT_FALSE(field(fetched, "checksum").string_value().empty());
+  const auto now = expect_schema(cli(server() + "--json fetch " + id + " --now --out " + dir_ + "/now"), "fetch")[0];
+  EXPECT_EQ(field(now, "files").list_value().values_size(), 2);  // fields.h5, fields.xdmf
+  EXPECT_TRUE(field(now, "fields").has_struct_value());
+
+  EXPECT_TRUE(field(expect_schema(cli(server() + "--json delete " + id), "delete")[0], "deleted").bool_value());
+  const auto gone = expect_schema(cli(server() + "--json status " + id), "status")[0];
+  EXPECT_EQ(field(gone, "session_id").string_value(), id);
+  EXPECT_EQ(field(field(gone, "error").struct_value(), "code").string_value(), "NOT_FOUND");
+  EXPECT_EQ(field(field(gone, "error").struct_value(), "rpc").string_value(), "GetSession");
+
+  std::string invalid = kSmallScenario;
+  invalid.replace(invalid.find("omega: 1.2"), 10, "omega: 2.5");
+  const auto validation =
+      expect_schema(cli(server() + "--json validate " + write_file(dir_, "bad.textproto", invalid)), "validate")[0];
+  EXPECT_FALSE(field(field(validation, "validation").struct_value(), "valid").bool_value());
+  const auto usage = expect_schema(cli(server() + "--json list extra"), "list")[0];
+  EXPECT_EQ(field(field(usage, "error").struct_value(), "code").string_value(), "USAGE");
 }
 
 TEST_F(Cli, UnreachableDaemonExitsThree) {
