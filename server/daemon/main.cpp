@@ -13,6 +13,7 @@
 
 #include <csignal>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -50,6 +51,10 @@ ABSL_FLAG(int, max_fluid_threads, static_cast<int>(std::max(1u, std::thread::har
 ABSL_FLAG(int, owner_max_sessions, 0, "sessions one owner may hold at once; 0: --max_sessions");
 ABSL_FLAG(int64_t, owner_max_memory, 0, "bytes one owner's sessions may take, as --max_memory; 0: --max_memory");
 ABSL_FLAG(int, owner_max_running, 0, "sessions one owner may run at once; 0: --max_sessions");
+ABSL_FLAG(double, owner_call_rate, 0,
+          "calls per second one owner may make (token bucket; streams count once); past it RESOURCE_EXHAUSTED "
+          "with the wait; 0: no limit");
+ABSL_FLAG(double, owner_call_burst, 0, "calls an idle owner may make at once past --owner_call_rate; 0: one second's");
 ABSL_FLAG(absl::Duration, autosave_interval, absl::Minutes(2),
           "wall time between automatic saves of every session that changed (a crash loses at most this); 0 "
           "turns them off");
@@ -155,6 +160,12 @@ int main(int argc, char** argv) {
   if (limits.per_owner.sessions < 0) return fail_start("--owner_max_sessions: must not be negative");
   if (limits.per_owner.memory_bytes < 0) return fail_start("--owner_max_memory: must not be negative");
   if (limits.per_owner.running < 0) return fail_start("--owner_max_running: must not be negative");
+  const lbsolid::server::auth::CallRateLimits call_limits{absl::GetFlag(FLAGS_owner_call_rate),
+                                                          absl::GetFlag(FLAGS_owner_call_burst)};
+  if (!(call_limits.calls_per_second >= 0) || !std::isfinite(call_limits.calls_per_second))
+    return fail_start("--owner_call_rate: must be a finite number of calls per second, 0 or more");
+  if (!(call_limits.burst >= 0) || !std::isfinite(call_limits.burst))
+    return fail_start("--owner_call_burst: must be a finite number of calls, 0 or more");
 
   // Signals are taken by one thread with sigwait: block them before any other thread starts (the TLS
   // file watcher's included: a SIGHUP delivered to it would end the daemon).
@@ -211,7 +222,7 @@ int main(int argc, char** argv) {
   if (const int error = lbsolid::server::lower_this_thread_priority(absl::GetFlag(FLAGS_call_nice)); error != 0)
     spdlog::warn("--call_nice: cannot lower the priority of the call threads: {}", std::strerror(error));
 
-  lbsolid::server::SimulationService service(*manager, authenticator);
+  lbsolid::server::SimulationService service(*manager, authenticator, call_limits);
   grpc::EnableDefaultHealthCheckService(true);
   if (absl::GetFlag(FLAGS_reflection)) grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;

@@ -77,10 +77,22 @@ grpc::Status pump(grpc::ServerContext* context, Channel& channel, grpc::ServerWr
 
 }  // namespace
 
+absl::StatusOr<auth::Identity> SimulationService::admit(grpc::ServerContext& context) {
+  auto caller = caller_of(context, *authenticator_);
+  if (!caller.ok() || !call_limiter_.limits_calls()) return caller;
+  std::chrono::milliseconds retry_after{0};
+  if (auto charged = call_limiter_.charge(caller->owner, auth::CallRateLimiter::Clock::now(), &retry_after);
+      !charged.ok()) {
+    context.AddTrailingMetadata(std::string(kRetryAfterKey), std::to_string(retry_after.count()));
+    return charged;
+  }
+  return caller;
+}
+
 template <class SessionId, class Body>
-grpc::Status SimulationService::audited(const grpc::ServerContext& context, const char* method,
+grpc::Status SimulationService::audited(grpc::ServerContext& context, const char* method,
                                         const SessionId& session_id, const Body& body) {
-  const auto caller = caller_of(context, *authenticator_);
+  const auto caller = admit(context);
   if (!caller.ok()) return to_grpc(caller.status());
   const grpc::Status status = body(*caller);
   if (authenticator_->authenticates()) {
@@ -107,7 +119,7 @@ grpc::Status SimulationService::CreateSession(grpc::ServerContext* context, cons
 
 grpc::Status SimulationService::ValidateScenario(grpc::ServerContext* context, const v1::ValidateScenarioRequest* request,
                                                  v1::ValidateScenarioResponse* response) {
-  const auto caller = caller_of(*context, *authenticator_);
+  const auto caller = admit(*context);
   if (!caller.ok()) return to_grpc(caller.status());
   if (!request->has_scenario()) return invalid("scenario: required");
   const TranslatedScenario checked = manager_.validate(request->scenario());
@@ -133,7 +145,7 @@ grpc::Status SimulationService::ValidateScenario(grpc::ServerContext* context, c
 
 grpc::Status SimulationService::GetSession(grpc::ServerContext* context, const v1::GetSessionRequest* request,
                                            v1::Session* response) {
-  const auto caller = caller_of(*context, *authenticator_);
+  const auto caller = admit(*context);
   if (!caller.ok()) return to_grpc(caller.status());
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   auto session = manager_.find(request->session_id(), *caller);
@@ -144,7 +156,7 @@ grpc::Status SimulationService::GetSession(grpc::ServerContext* context, const v
 
 grpc::Status SimulationService::ListSessions(grpc::ServerContext* context, const v1::ListSessionsRequest*,
                                              v1::ListSessionsResponse* response) {
-  const auto caller = caller_of(*context, *authenticator_);
+  const auto caller = admit(*context);
   if (!caller.ok()) return to_grpc(caller.status());
   std::vector<v1::Session> sessions;
   for (const auto& session : manager_.list(*caller)) sessions.push_back(session->describe(/*with_scenario=*/false));
@@ -234,7 +246,7 @@ grpc::Status SimulationService::change_state(const std::string& id, const auth::
 
 grpc::Status SimulationService::WatchSession(grpc::ServerContext* context, const v1::WatchSessionRequest* request,
                                              grpc::ServerWriter<v1::SessionEvent>* writer) {
-  const auto caller = caller_of(*context, *authenticator_);
+  const auto caller = admit(*context);
   if (!caller.ok()) return to_grpc(caller.status());
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   double interval = request->progress_interval_s();
@@ -250,7 +262,7 @@ grpc::Status SimulationService::WatchSession(grpc::ServerContext* context, const
 
 grpc::Status SimulationService::WatchProfiles(grpc::ServerContext* context, const v1::WatchProfilesRequest* request,
                                               grpc::ServerWriter<v1::ProfileFrame>* writer) {
-  const auto caller = caller_of(*context, *authenticator_);
+  const auto caller = admit(*context);
   if (!caller.ok()) return to_grpc(caller.status());
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   if (request->every() < 1) return invalid(absl::StrCat("every: must be at least 1, got ", request->every()));
@@ -267,7 +279,7 @@ grpc::Status SimulationService::WatchProfiles(grpc::ServerContext* context, cons
 
 grpc::Status SimulationService::WatchParticles(grpc::ServerContext* context, const v1::WatchParticlesRequest* request,
                                                grpc::ServerWriter<v1::ParticleFrame>* writer) {
-  const auto caller = caller_of(*context, *authenticator_);
+  const auto caller = admit(*context);
   if (!caller.ok()) return to_grpc(caller.status());
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   if (request->every() < 1) return invalid(absl::StrCat("every: must be at least 1, got ", request->every()));
@@ -285,7 +297,7 @@ grpc::Status SimulationService::WatchParticles(grpc::ServerContext* context, con
 
 grpc::Status SimulationService::GetField(grpc::ServerContext* context, const v1::GetFieldRequest* request,
                                          grpc::ServerWriter<v1::FieldMessage>* writer) {
-  const auto caller = caller_of(*context, *authenticator_);
+  const auto caller = admit(*context);
   if (!caller.ok()) return to_grpc(caller.status());
   static_assert(std::endian::native == std::endian::little, "field chunks are sent as the machine stores them");
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
@@ -335,7 +347,7 @@ grpc::Status SimulationService::GetField(grpc::ServerContext* context, const v1:
 
 grpc::Status SimulationService::ListOutputs(grpc::ServerContext* context, const v1::ListOutputsRequest* request,
                                             v1::ListOutputsResponse* response) {
-  const auto caller = caller_of(*context, *authenticator_);
+  const auto caller = admit(*context);
   if (!caller.ok()) return to_grpc(caller.status());
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   auto session = manager_.find(request->session_id(), *caller);
@@ -354,7 +366,7 @@ grpc::Status SimulationService::ListOutputs(grpc::ServerContext* context, const 
 
 grpc::Status SimulationService::DownloadOutput(grpc::ServerContext* context, const v1::DownloadOutputRequest* request,
                                                grpc::ServerWriter<v1::OutputChunk>* writer) {
-  const auto caller = caller_of(*context, *authenticator_);
+  const auto caller = admit(*context);
   if (!caller.ok()) return to_grpc(caller.status());
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   if (request->name().empty()) return invalid("name: required (ListOutputs names the files)");
@@ -516,7 +528,7 @@ grpc::Status SimulationService::UploadCheckpoint(grpc::ServerContext* context,
 
 grpc::Status SimulationService::GetServerInfo(grpc::ServerContext* context, const v1::GetServerInfoRequest*,
                                               v1::ServerInfo* response) {
-  const auto caller = caller_of(*context, *authenticator_);
+  const auto caller = admit(*context);
   if (!caller.ok()) return to_grpc(caller.status());
   const auto& limits = manager_.limits();
   response->set_version(manager_.writer().version);

@@ -3,17 +3,24 @@
 // INVALID_ARGUMENT), hands the work to the SessionManager and its sessions, and pumps stream
 // frames to clients until the session ends, the client cancels, or the daemon stops.
 #include <memory>
+#include <string_view>
 
 #include "lbsolid/v1/simulation.grpc.pb.h"
 #include "server/auth/authenticator.h"
+#include "server/auth/call_rate_limiter.h"
 #include "server/session/session_manager.h"
 
 namespace lbsolid::server {
 
+// A call refused by the per-owner call rate carries, in this trailing metadata key, the
+// milliseconds until a call would pass.
+inline constexpr std::string_view kRetryAfterKey = "lbsolid-retry-after-ms";
+
 class SimulationService final : public v1::Simulation::Service {
  public:
-  SimulationService(SessionManager& manager, std::shared_ptr<const auth::Authenticator> authenticator)
-      : manager_(manager), authenticator_(std::move(authenticator)) {}
+  SimulationService(SessionManager& manager, std::shared_ptr<const auth::Authenticator> authenticator,
+                    auth::CallRateLimits call_limits = {})
+      : manager_(manager), authenticator_(std::move(authenticator)), call_limiter_(call_limits) {}
 
   grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::Session*) override;
   grpc::Status ValidateScenario(grpc::ServerContext*, const v1::ValidateScenarioRequest*,
@@ -46,14 +53,18 @@ class SimulationService final : public v1::Simulation::Service {
   // Applies `change` (if any) to the session and answers with its description.
   grpc::Status change_state(const std::string& id, const auth::Identity& caller, absl::Status (Session::*change)(),
                             v1::Session* response);
-  // For the methods that change state: authenticates the call, runs `body` as its caller and, on a
+  // Every call's first step: who makes it (UNAUTHENTICATED if nobody known), charged to the
+  // owner's call rate (RESOURCE_EXHAUSTED, with kRetryAfterKey, past it).
+  absl::StatusOr<auth::Identity> admit(grpc::ServerContext& context);
+  // For the methods that change state: admits the call, runs `body` as its caller and, on a
   // daemon that authenticates callers, logs one audit line (owner, method, session, outcome).
   template <class SessionId, class Body>
-  grpc::Status audited(const grpc::ServerContext& context, const char* method, const SessionId& session_id,
+  grpc::Status audited(grpc::ServerContext& context, const char* method, const SessionId& session_id,
                        const Body& body);
 
   SessionManager& manager_;
   const std::shared_ptr<const auth::Authenticator> authenticator_;
+  auth::CallRateLimiter call_limiter_;
 };
 
 }  // namespace lbsolid::server

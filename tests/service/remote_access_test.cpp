@@ -242,6 +242,39 @@ TEST_F(RemoteAccess, TokensWorkOverPlaintextLoopbackToo) {
   EXPECT_TRUE(stub->GetServerInfo(context.get(), {}, &info).ok());
 }
 
+// --owner_call_rate: an owner past the rate gets RESOURCE_EXHAUSTED naming the limit, with the
+// wait in trailing metadata, before the call does anything; another owner's calls pass; after the
+// wait the owner's calls pass again. Burst 3 at 2 a second: the 4th quick call is refused (the
+// calls take well under the 500 ms a token needs on any machine that runs these tests).
+TEST_F(RemoteAccess, AnOwnerPastTheCallRateIsToldToWaitAndOthersAreNot) {
+  DaemonProcess daemon(dir_.path + "/data",
+                       {"--tokens_file=" + tokens_, "--owner_call_rate=2", "--owner_call_burst=3"});
+  auto stub = daemon.stub();
+  const auto info_as = [&](const std::string& token, std::string* retry_after = nullptr) {
+    v1::ServerInfo info;
+    auto context = deadline_context();
+    context->AddMetadata("authorization", "Bearer " + token);
+    const grpc::Status status = stub->GetServerInfo(context.get(), {}, &info);
+    if (retry_after) {
+      const auto& trailers = context->GetServerTrailingMetadata();
+      const auto at = trailers.find("lbsolid-retry-after-ms");
+      *retry_after = at == trailers.end() ? "" : std::string(at->second.data(), at->second.size());
+    }
+    return status;
+  };
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(info_as("alice-secret").ok()) << i;
+  std::string retry_after;
+  const grpc::Status refused = info_as("alice-secret", &retry_after);
+  EXPECT_TRUE(has_status(refused, grpc::StatusCode::RESOURCE_EXHAUSTED, "--owner_call_rate")) << refused.error_message();
+  ASSERT_FALSE(retry_after.empty());
+  const long wait_ms = std::stol(retry_after);
+  EXPECT_GT(wait_ms, 0);
+  EXPECT_LE(wait_ms, 500);  // one token at 2 a second
+  EXPECT_TRUE(info_as("bob-secret").ok());
+  std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms + 20));
+  EXPECT_TRUE(info_as("alice-secret").ok());
+}
+
 // Every RPC that names a session or checkpoint, made by bob on alice's: NOT_FOUND each time, and
 // alice's session is as she left it. The admin sees and reaches it.
 TEST_F(RemoteAccess, NoRpcLetsOneUserSeeOrTouchAnothersSession) {
