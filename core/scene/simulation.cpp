@@ -166,7 +166,14 @@ class SimulationImpl final : public Simulation {
     fields.shape = {c.nx, c.ny, c.nz};
     fields.density.resize(f.cells());
     fields.velocity.resize(3 * f.cells());
-    fluid_moments_range(0, f.cells(), fields.density.data(), fields.velocity.data());
+    // Every thread of the pool takes rows (a whole field is read while the session waits, and
+    // each node's moments depend on that node alone, so the parts cannot change a value).
+    const long rows = static_cast<long>(c.ny) * c.nz;
+    pool_->parallel_for(rows, [&](long first_row, long end_row) {
+      const long first = first_row * c.nx;
+      fluid_moments_range(first, (end_row - first_row) * c.nx, fields.density.data() + first,
+                          fields.velocity.data() + 3 * first);
+    });
   }
 
   void fluid_moments_range(long first, long count, double* density, double* velocity) const override {

@@ -396,20 +396,21 @@ grpc::Status SimulationService::DownloadOutput(grpc::ServerContext* context, con
     return grpc::Status(grpc::StatusCode::ABORTED, absl::StrCat(file->name, ": replaced by a newer version while ",
                                                                 "being opened; list the outputs again"));
   }
-  std::string buffer(static_cast<std::size_t>(chunk), '\0');
   grpc::Status status = grpc::Status::OK;
   v1::OutputChunk message;
   message.mutable_file()->set_name(file->name);
   message.mutable_file()->set_bytes(file->bytes);
   message.mutable_file()->set_sha256(file->sha256);
+  std::string& data = *message.mutable_data();  // read into directly: its memory is reused for every chunk
   for (long long offset = request->offset();;) {
-    const ssize_t n = ::pread(fd, buffer.data(), buffer.size(), offset);
+    data.resize(static_cast<std::size_t>(chunk));
+    const ssize_t n = ::pread(fd, data.data(), data.size(), offset);
     if (n < 0) {
       status = grpc::Status(grpc::StatusCode::UNAVAILABLE, absl::StrCat(file->name, ": cannot read: ", std::strerror(errno)));
       break;
     }
     message.set_offset(offset);
-    message.set_data(buffer.data(), static_cast<std::size_t>(n));
+    data.resize(static_cast<std::size_t>(n));
     if (context->IsCancelled() || !writer->Write(message)) {
       status = grpc::Status(grpc::StatusCode::CANCELLED, "the stream was cancelled");
       break;

@@ -125,6 +125,7 @@ inline grpc::Status read_fields(v1::Simulation::Stub& stub, const std::string& i
       current = message.header().name();
       out->step = message.header().step();
       out->bytes[current].clear();
+      out->bytes[current].reserve(static_cast<std::size_t>(message.header().total_bytes()));  // as a client that knows the size
     } else if (message.has_chunk()) {
       out->bytes[current] += message.chunk().data();
     }
@@ -213,7 +214,10 @@ inline grpc::Status download_output(v1::Simulation::Stub& stub, const std::strin
   int chunks = 0;
   long next = offset;  // where the next chunk must start: the chunks cover the file in order
   while (reader->Read(&chunk)) {
-    if (chunk.has_file()) *file = chunk.file();
+    if (chunk.has_file()) {
+      *file = chunk.file();
+      bytes->reserve(static_cast<std::size_t>(file->bytes()));  // as a client that knows the size
+    }
     if (chunk.offset() != next) {
       context->TryCancel();
       reader->Finish();

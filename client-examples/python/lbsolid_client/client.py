@@ -361,27 +361,32 @@ class Session:
             return recording_from_h5md(Path(tmp) / "particles.h5", self.snapshot, profiles_every, particles_every,
                                        bodies)
 
-    def fields(self, names=("density", "velocity"), chunk_bytes: int = 1 << 20) -> dict:
+    def fields(self, names=("density", "velocity"), chunk_bytes: int = 3 << 20) -> dict:
         """The whole fields at the current step, as numpy arrays (header shape, float64)."""
         request = pb.GetFieldRequest(session_id=self.id, fields=list(names), chunk_bytes=chunk_bytes)
-        out, header, buffer = {}, None, None
+        out, header, buffer, filled = {}, None, None, 0
 
         def finish():
             if header is not None:
-                if len(buffer) != header.total_bytes:
-                    raise IOError(f"field {header.name}: got {len(buffer)} of {header.total_bytes} bytes")
-                values = np.frombuffer(bytes(buffer), dtype="<f8").reshape(tuple(header.shape))
+                if filled != header.total_bytes:
+                    raise IOError(f"field {header.name}: got {filled} of {header.total_bytes} bytes")
+                # A view of the buffer, not a copy of it.
+                values = np.frombuffer(buffer, dtype="<f8").reshape(tuple(header.shape))
                 out[header.name] = Field(header.name, header.step, values, _vector(header.spacing))
 
         for message in self._stub.GetField(request, timeout=self.client.timeout):
             part = message.WhichOneof("part")
             if part == "header":
                 finish()
-                header, buffer = message.header, bytearray()
+                # The size is known: one buffer, each chunk copied into its place once.
+                header, buffer, filled = message.header, bytearray(message.header.total_bytes), 0
             elif part == "chunk":
-                if message.chunk.offset != len(buffer):
-                    raise IOError(f"field {header.name}: chunk at offset {message.chunk.offset}, expected {len(buffer)}")
-                buffer += message.chunk.data
+                data = message.chunk.data
+                if message.chunk.offset != filled or filled + len(data) > len(buffer):
+                    raise IOError(f"field {header.name}: {len(data)} bytes at offset {message.chunk.offset}, "
+                                  f"expected offset {filled} of {len(buffer)}")
+                buffer[filled:filled + len(data)] = data
+                filled += len(data)
         finish()
         return out
 
