@@ -138,6 +138,10 @@ std::vector<std::string> validate_body_spec(const BodySpec& spec, int dimension,
   if (!finite(spec.load)) error("load", "must be finite");
   if (dimension == 2 && (spec.centre[2] != 0 || spec.velocity[2] != 0 || spec.load[2] != 0))
     error("centre/velocity/load", "a 2D body has zero z components");
+  if (!finite(spec.angular_velocity)) error("angular_velocity", "must be finite");
+  if (dimension == 2 && (spec.angular_velocity[0] != 0 || spec.angular_velocity[1] != 0))
+    error("angular_velocity", "a 2D body spins about z only (x and y components zero)");
+  if (spec.rotation && dimension != 2) error("rotation", "only 2D bodies can rotate so far (issue 16)");
   return errors;
 }
 

@@ -1,6 +1,7 @@
 #include "solid/solid_system.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <stdexcept>
 
@@ -14,7 +15,10 @@ SolidSystem::SolidSystem(int dimension) : topology_{dimension}, links_(2 * dimen
 }
 
 int SolidSystem::add_body(const std::string& name, const std::vector<Label>& labels, double spacing,
-                          const Vec3& centre, const Vec3& velocity, const Vec3& load) {
+                          const Vec3& centre, const Vec3& velocity, const Vec3& load, const Vec3& angular_velocity,
+                          bool rotates) {
+  if (rotates && dimension() != 2)
+    throw std::invalid_argument("rotation: body '" + name + "': only 2D bodies can rotate so far");
   const int first = particle_count();
   const int n = static_cast<int>(labels.size());
   std::map<Label, int> index;
@@ -26,7 +30,13 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
     throw std::invalid_argument("labels: a particle of body '" + name + "' has no neighbour (M = K/2 = 0)");
   const auto positions = placed_positions(labels, centre, spacing);
   const int body = body_count();
-  bodies_.push_back({name, first, n, spacing, load});
+  bodies_.push_back({name, first, n, spacing, load, rotates});
+  double total_mass = 0;
+  for (int q = 0; q < n; ++q) {
+    total_mass += masses[q];
+    for (int a = 0; a < 3; ++a) bodies_.back().rest_centroid[a] += masses[q] * spacing * labels[q][a];
+  }
+  for (int a = 0; a < 3; ++a) bodies_.back().rest_centroid[a] /= total_mass;
   for (int q = 0; q < n; ++q) {
     const Label& l = labels[q];
     body_index_.push_back(body);
@@ -48,7 +58,12 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
       outgoing_.push_back({0, 0, 0});
     }
   momentum_.resize(particle_count());
+  if (angular_velocity != Vec3{0, 0, 0}) set_spin(body, velocity, angular_velocity);
   links_ == 6 ? update_momentum<6>(first, first + n) : update_momentum<4>(first, first + n);
+  if (rotates) {
+    any_rotates_ = true;
+    bodies_[body].angle = best_fit_angle(body);
+  }
   return body;
 }
 
@@ -97,6 +112,8 @@ void SolidSystem::restore(const SolidState& state) {
   positions_ = state.positions;
   incoming_ = state.incoming;
   momentum_ = state.momentum;
+  for (int b = 0; b < body_count(); ++b)
+    if (bodies_[b].rotates) bodies_[b].angle = best_fit_angle(b);  // as the next step will find it
 }
 
 }  // namespace lbsolid::solid

@@ -7,6 +7,18 @@
 // Momentum (eq. 8), energy (eq. 10) and the deformation invariant (eq. 11) then hold exactly.
 // Everything is double: the solid is small beside the fluid and its invariants are checked to
 // round-off.
+//
+// Rotation (issue 16; 2D for now), per body and opt-in. Eqs. 6-7 are a leapfrog of particles
+// joined by "vector springs": with D = r_q - r_p + f_k(q) - f_opp(k)(p) for the link from p to
+// q = p + c_k (eq. 11's left side), a step changes Psi_q by the spring force -(r_q - r_p - D) at the
+// new positions (and Psi_p by its opposite), and leaves D unchanged. With D fixed at the placed
+// Delta0, a turned body is pulled back (the paper: it "cannot freely rotate"). After each step of
+// a rotating body, every link's two vectors are shifted by +(T - D) at q and -(T - D) at p, with
+// T = R Delta0 and R the rotation that best maps the rest links onto the new ones: the step's
+// spring forces are then those of springs at rest along T (co-rotational springs), D becomes
+// 2T - D, and the body's momentum (eq. 8) is unchanged. The spring forces of the best fit have
+// no net torque, so without other forces sum_p r_p x Psi_p is kept to round-off
+// (solid/body_rotation.cpp; eq. 11 then holds with a D that follows the frame, not the placed Delta0).
 #include <string>
 #include <vector>
 
@@ -22,6 +34,9 @@ struct Body {
   int count = 0;
   double spacing = 1.0;  // rest distance between linked particles
   Vec3 load{0, 0, 0};    // external force on each particle
+  bool rotates = false;  // the springs' rest frame turns with the body (above)
+  double angle = 0;      // rotating bodies: the frame's angle from the placed shape, (-pi, pi]
+  Vec3 rest_centroid{0, 0, 0};  // mass-weighted centroid of spacing * label
 };
 
 // Everything a SolidSystem changes as it runs (the bodies themselves come from their specs):
@@ -39,8 +54,14 @@ class SolidSystem {
   // Adds the particles at `labels`, placed at centre + spacing (l - centroid), moving rigidly at
   // `velocity` (f_k = velocity/2 on every existing incoming link, so Psi = M velocity). Labels
   // must be distinct and each must have a neighbour (validate_body_spec). Returns the body index.
+  // With an angular velocity w (2D: about z), the body also spins about its centre of mass: each
+  // link's two vectors are (v_l + v_m)/4 with v = velocity + w x (rest offset), so that the shape is
+  // the rest shape (eq. 11 with every f difference zero) and the body's momentum is M velocity;
+  // rim particles, with fewer links, then move slightly differently from a rigid rotation.
+  // `rotates`: the springs' rest frame turns with the body (2D only; std::invalid_argument in 3D).
   int add_body(const std::string& name, const std::vector<Label>& labels, double spacing,
-               const Vec3& centre, const Vec3& velocity, const Vec3& load);
+               const Vec3& centre, const Vec3& velocity, const Vec3& load,
+               const Vec3& angular_velocity = {0, 0, 0}, bool rotates = false);
 
   // One step with the total external force on particle p given by `force(p)` (a Vec3, loads
   // included by the caller), evaluated once per particle as the step reaches it: it may read this
@@ -73,6 +94,13 @@ class SolidSystem {
   // (spacing c_k; zero where the link is missing).
   Vec3 rest_separation(int p, int k) const;
 
+  // Particle p's rest position relative to its body's rest centroid: spacing * label - centroid.
+  Vec3 rest_offset(int p) const;
+  // 2D: the angle of the rotation R that best maps body b's rest links onto its current ones
+  // (maximum of sum over links of (r_q - r_p) . R Delta0), in (-pi, pi].
+  double best_fit_angle(int b) const;
+
+
   Vec3 total_momentum() const;
   double total_energy() const;
 
@@ -100,6 +128,10 @@ class SolidSystem {
   void advance(const Force& force, int first, int end);
   template <class Range>
   void for_parts(parallel::ThreadPool* pool, int parts, const Range& range);
+  // Turns body b's springs to its best-fit frame after a step (above; body_rotation.cpp).
+  void co_rotate(int b);
+  void set_spin(int b, const Vec3& velocity, const Vec3& angular_velocity);
+  bool any_rotates_ = false;
 };
 
 template <class Range>
@@ -119,6 +151,9 @@ void SolidSystem::step(const Force& force, parallel::ThreadPool* pool, int parts
   for_parts(pool, parts, [&](int first, int end) {
     cubic ? update_momentum<6>(first, end) : update_momentum<4>(first, end);
   });
+  if (any_rotates_)
+    for (int b = 0; b < body_count(); ++b)
+      if (bodies_[b].rotates) co_rotate(b);
 }
 
 // Eq. 7 and the wave rule for particles [first, end): positions, and the vectors each sends.

@@ -299,6 +299,9 @@ TranslatedBody translate_body(const v1::Body& in, int index, int dimension, Prob
   spec.centre = vec(in.centre(), dimension);
   spec.velocity = vec(in.velocity(), dimension);
   spec.load = vec(in.load(), dimension);
+  // All three components: a 2D body's x or y spin is refused by name (validate_body_spec).
+  spec.angular_velocity = {in.angular_velocity().x(), in.angular_velocity().y(), in.angular_velocity().z()};
+  spec.rotation = in.rotation();
   switch (in.shape()) {
     case v1::BODY_SHAPE_RECTANGLE:
       spec.shape = solid::BodyShape::kRectangle;

@@ -55,11 +55,12 @@ long long particles_of(const v1::Body& body, int dimension) {
 // Bytes per particle in SolidSystem and, with a fluid, in the exchange (scene/simulation.cpp):
 // body index 4, label 12, position 24, mass 8, momentum 24, per link a neighbour index 4
 // and incoming and outgoing vectors 48; exchange: node 12, cell 8, momentum 24, chain link 4, a
-// node record of 80 and a row-sort counter 8. Doubled: arrays grown by push_back may hold up to twice their size.
-long long bytes_per_particle(int dimension, bool with_fluid) {
+// node record of 80 and a row-sort counter 8, and with rotating bodies the momenta compared at the
+// nodes 24. Doubled: arrays grown by push_back may hold up to twice their size.
+long long bytes_per_particle(int dimension, bool with_fluid, bool rotating) {
   const int links = 2 * dimension;
   const long long solid = 4 + 12 + 24 + 8 + 24 + links * (4 + 48);
-  const long long exchange = with_fluid ? 12 + 8 + 24 + 4 + 80 + 8 : 0;
+  const long long exchange = with_fluid ? 12 + 8 + 24 + 4 + 80 + 8 + (rotating ? 24 : 0) : 0;
   return 2 * (solid + exchange);
 }
 
@@ -105,7 +106,9 @@ Footprint estimate_footprint(const v1::Scenario& scenario) {
   const long long rows = std::max(0, d.ny()) * nz;
   const long long exchange_heads =
       f.particles > 0 ? saturating_sum(saturating_product(f.cells, 4), saturating_product(rows, 24)) : 0;
-  const long long solid = saturating_product(f.particles, bytes_per_particle(dimension, with_fluid));
+  const bool rotating = std::any_of(scenario.bodies().begin(), scenario.bodies().end(),
+                                    [](const v1::Body& body) { return body.rotation(); });
+  const long long solid = saturating_product(f.particles, bytes_per_particle(dimension, with_fluid, rotating));
   f.resident_bytes = saturating_sum(saturating_sum(populations, exchange_heads), solid);
 
   // A save copies the populations as doubles and the solid's positions, links and momenta; field

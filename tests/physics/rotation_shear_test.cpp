@@ -1,0 +1,133 @@
+// Rotating bodies in a fluid (issue 16). A torque-free disk in simple shear between walls moving
+// at -U and +U turns at gamma_dot / 2, the Stokes result for any round body (the strain part of the
+// flow exerts no torque on it), when its springs turn with it (solid_system.h); with the paper's
+// fixed springs it cannot turn. A spinning disk in fluid at rest hands its spin to the fluid.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "fluid/fluid_test_support.h"
+#include "scene/simulation.h"
+
+namespace lbsolid::scene {
+namespace {
+
+using testing::report;
+
+constexpr int kSize = 48;        // H = 48 between the halfway bounce-back walls, periodic in x
+constexpr double kRadius = 4;    // R / H = 1/12
+constexpr double kWallSpeed = 0.01;
+constexpr double kShearRate = 2 * kWallSpeed / kSize;  // 4.2e-4 per step
+
+Scene disk_in_shear(bool rotation) {
+  Scene s;
+  s.lattice = LatticeKind::kD2Q9;
+  s.fluid.nx = kSize;
+  s.fluid.ny = kSize;
+  s.fluid.omega = 1.0;  // nu = 1/6: Re = gamma_dot R^2 / nu = 0.04
+  s.fluid.sides[fluid::kYLow].kind = fluid::WallKind::kMovingWall;
+  s.fluid.sides[fluid::kYLow].wall_velocity = {-kWallSpeed, 0, 0};
+  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kMovingWall;
+  s.fluid.sides[fluid::kYHigh].wall_velocity = {kWallSpeed, 0, 0};
+  solid::BodySpec disk;
+  disk.shape = solid::BodyShape::kDisk;
+  disk.radius = kRadius;
+  disk.centre = {kSize / 2, kSize / 2, 0};  // on a node: no particle halfway between two
+  disk.rotation = rotation;
+  s.bodies.push_back(disk);
+  return s;
+}
+
+// The angle the disk turns through over `steps` (the best fit, followed every 100 steps).
+double turned(Simulation& sim, int steps) {
+  double total = 0, last = sim.body_state(0).orientation;
+  for (int t = 0; t < steps; t += 100) {
+    sim.run(100);
+    const double angle = sim.body_state(0).orientation;
+    total += std::remainder(angle - last, 2 * std::numbers::pi);
+    last = angle;
+  }
+  return total;
+}
+
+// 10,000 steps for the Couette flow to settle (its slowest mode decays as exp(-pi^2 nu t / H^2):
+// e^-7 by then), then the rate over 10,000 more. The flow turns clockwise (u_x grows with y).
+// Within 3% (issue 16); measured 1.001, and 0.99-1.02 at omega 0.6 and 1.6 (the rate does not
+// depend on the viscosity); 0.964 for R = 8 in H = 96 at omega 1.6, where Re = 0.3.
+TEST(RotationInShear, ATorqueFreeDiskTurnsAtHalfTheShearRate) {
+  auto sim = build_simulation(disk_in_shear(true));
+  EXPECT_EQ(sim->stages().back(), "rotation");
+  sim->run(10000);
+  const int steps = 10000;
+  const double rate = -turned(*sim, steps) / steps;
+  report("disk's rate / (gamma_dot / 2)", rate / (kShearRate / 2), 0.03);
+  EXPECT_NEAR(rate / (kShearRate / 2), 1.0, 0.03);
+  // Its angular velocity from L / I agrees with the turn (a rigid spin).
+  EXPECT_NEAR(-sim->body_state(0).angular_velocity[2] / (kShearRate / 2), 1.0, 0.1);
+}
+
+// The paper's model: the springs hold the disk at its placed orientation (measured: 2e-11 rad, the
+// disk symmetric about the line where the flow is at rest; the rotating disk turns 2.1 rad).
+TEST(RotationInShear, WithFixedSpringsTheDiskCannotTurn) {
+  auto sim = build_simulation(disk_in_shear(false));
+  sim->run(10000);
+  const double angle = turned(*sim, 10000);
+  report("angle turned with fixed springs (rad)", std::abs(angle), 0.01);
+  EXPECT_LT(std::abs(angle), 0.01);
+}
+
+// A disk spinning (and drifting) in a periodic 128^2 box of fluid at rest hands its spin to the
+// fluid: after 1000 steps it keeps under 1% of its angular momentum, the momentum of fluid and
+// solid together is kept to round-off (eqs. 12-14 unchanged by the rotation), and their angular
+// momentum about the box's centre to 2% (measured at most 1.0%: the exchange takes momentum from a
+// particle and gives it to its node, up to half a spacing away, so angular momentum is not exact
+// the way momentum is; later the flow reaches the periodic images, which no box holds).
+TEST(RotationInFluid, ASpinningDiskHandsItsSpinToTheFluid) {
+  constexpr int n = 128;
+  Scene s;
+  s.lattice = LatticeKind::kD2Q9;
+  s.fluid.nx = n;
+  s.fluid.ny = n;
+  s.fluid.omega = 1.0;
+  solid::BodySpec disk;
+  disk.shape = solid::BodyShape::kDisk;
+  disk.radius = 6;
+  disk.centre = {n / 2, n / 2, 0};
+  disk.velocity = {1e-4, -5e-5, 0};
+  disk.angular_velocity = {0, 0, 0.005};  // rim speed 0.03
+  disk.rotation = true;
+  s.bodies.push_back(disk);
+  auto sim = build_simulation(s);
+  const auto angular_momenta = [&] {  // solid's own, and fluid + solid about the box centre
+    const auto f = sim->fluid_fields();
+    double fluid = 0;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const long k = static_cast<long>(y) * n + x;
+        fluid += f.density[k] * ((x - n / 2) * f.velocity[3 * k + 1] - (y - n / 2) * f.velocity[3 * k]);
+      }
+    const auto b = sim->body_state(0);
+    const double orbit = b.mass * ((b.centre_of_mass[0] - n / 2) * b.velocity[1] - (b.centre_of_mass[1] - n / 2) * b.velocity[0]);
+    return std::pair{b.angular_momentum[2], fluid + b.angular_momentum[2] + orbit};
+  };
+  const auto [spin0, total0] = angular_momenta();
+  const Vec3 p0 = sim->totals().momentum();
+  double worst_total = 0, worst_momentum = 0;
+  for (int t = 0; t < 1000; t += 100) {
+    sim->run(100);
+    worst_total = std::max(worst_total, std::abs(angular_momenta().second - total0) / total0);
+    const Vec3 p = sim->totals().momentum();
+    for (int a = 0; a < 2; ++a) worst_momentum = std::max(worst_momentum, std::abs(p[a] - p0[a]));
+  }
+  const double spin_left = angular_momenta().first / spin0;
+  report("disk's angular momentum left after 1000 steps", spin_left, 0.01);
+  report("total angular momentum change (relative)", worst_total, 0.02);
+  report("total momentum change", worst_momentum, 1e-12);
+  EXPECT_LT(std::abs(spin_left), 0.01);
+  EXPECT_LT(worst_total, 0.02);
+  EXPECT_LT(worst_momentum, 1e-12);
+}
+
+}  // namespace
+}  // namespace lbsolid::scene
