@@ -194,6 +194,9 @@ std::string particle_frame_json(const lbsolid::v1::ParticleFrame& f) {
                          .number("mass", b.mass())
                          .raw("centre_of_mass", vector_json(b.centre_of_mass()))
                          .raw("mean_velocity", vector_json(b.mean_velocity()))
+                         .raw("angular_momentum", vector_json(b.angular_momentum()))
+                         .raw("angular_velocity", vector_json(b.angular_velocity()))
+                         .number("orientation", b.orientation())
                          .raw("position", json_array(std::vector<double>(b.position().begin(), b.position().end())))
                          .raw("velocity", json_array(std::vector<double>(b.velocity().begin(), b.velocity().end())))
                          .str());

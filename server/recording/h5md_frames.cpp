@@ -25,6 +25,8 @@ void append_particle_frame(storage::H5mdWriter& writer, const lbsolid::v1::Parti
     writer.append_particles(body.name(), frame.step(), per_dimension(body.position(), dimension),
                             per_dimension(body.velocity(), dimension));
     writer.append_body(body.name(), frame.step(), array_of(body.centre_of_mass()), array_of(body.mean_velocity()));
+    writer.append_rotation(body.name(), frame.step(), array_of(body.angular_momentum()),
+                           array_of(body.angular_velocity()), body.orientation());
   }
 }
 

@@ -484,6 +484,9 @@ v1::ParticleFrame Session::particle_frame(const std::vector<int>& bodies) const 
     *out->mutable_mean_velocity() = to_proto(state.velocity);
     out->set_mass(state.mass);
     out->set_energy(energy);
+    *out->mutable_angular_momentum() = to_proto(state.angular_momentum);
+    *out->mutable_angular_velocity() = to_proto(state.angular_velocity);
+    out->set_orientation(state.orientation);
   }
   return frame;
 }

@@ -236,6 +236,17 @@ void H5mdWriter::append_body(const std::string& body, long step, const std::arra
   });
 }
 
+void H5mdWriter::append_rotation(const std::string& body, long step, const std::array<double, 3>& angular_momentum,
+                                 const std::array<double, 3>& angular_velocity, double orientation) {
+  impl_->check_open();
+  check_body_name(body);
+  h5::with_context(impl_->context(), [&] {
+    impl_->append("/observables/" + body + "/angular_momentum", {3}, step, angular_momentum.data());
+    impl_->append("/observables/" + body + "/angular_velocity", {3}, step, angular_velocity.data());
+    impl_->append("/observables/" + body + "/orientation", {1}, step, &orientation);
+  });
+}
+
 void H5mdWriter::append_profile(long step, const std::vector<double>& y, const std::vector<double>& u_x) {
   impl_->check_open();
   if (y.empty() || y.size() != u_x.size())

@@ -79,6 +79,9 @@ class Body:
     mean_velocity: np.ndarray   # (3,)
     mass: float
     energy: float               # sum_k |f_k|^2 over the body (MODEL.md eq. 9)
+    angular_momentum: np.ndarray = None  # (3,), about the centre of mass
+    angular_velocity: np.ndarray = None  # (3,), the inertia tensor solved for it (2D: along z)
+    orientation: float = float("nan")    # 2D: radians, the best-fit turn from the rest shape
 
 
 @dataclass
@@ -107,7 +110,8 @@ class Recording:
         return steps, np.stack([f.bodies[body].position for f in self.particles])
 
     def body_series(self, body: str, quantity: str):
-        """(steps, values) of one body quantity (centre_of_mass, mean_velocity, mass, energy)."""
+        """(steps, values) of one body quantity (centre_of_mass, mean_velocity, mass, energy,
+        angular_momentum, angular_velocity, orientation)."""
         steps = np.array([f.step for f in self.particles], dtype=np.int64)
         return steps, np.array([getattr(f.bodies[body], quantity) for f in self.particles])
 
@@ -126,7 +130,8 @@ def particles_from_proto(frame) -> Particles:
         bodies[b.name] = Body(b.name,
                               np.array(b.position, dtype=np.float64).reshape(-1, 3),
                               np.array(b.velocity, dtype=np.float64).reshape(-1, 3),
-                              _vector(b.centre_of_mass), _vector(b.mean_velocity), b.mass, b.energy)
+                              _vector(b.centre_of_mass), _vector(b.mean_velocity), b.mass, b.energy,
+                              _vector(b.angular_momentum), _vector(b.angular_velocity), b.orientation)
     return Particles(frame.step, bodies)
 
 

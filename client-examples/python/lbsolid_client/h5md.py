@@ -1,5 +1,5 @@
 """Frames read back from a particles.h5 the daemon recorded (H5MD, server/storage/h5md_file.h):
-the velocity profile series and each body's particles and mean motion."""
+the velocity profile series and each body's particles, mean motion and rotation."""
 import h5py
 import numpy as np
 
@@ -35,11 +35,18 @@ def recording_from_h5md(path, session, profiles_every=0, particles_every=0, bodi
                 _, velocities = _series(group["velocity"])
                 _, centres = _series(f[f"observables/{name}/centre_of_mass"])
                 _, means = _series(f[f"observables/{name}/velocity"])
+                rotation = {}  # files from before the rotation observables have none
+                for quantity in ("angular_momentum", "angular_velocity", "orientation"):
+                    if f"observables/{name}/{quantity}" in f:
+                        rotation[quantity] = _series(f[f"observables/{name}/{quantity}"])[1]
                 for k, step in enumerate(steps):
                     if step % particles_every:
                         continue
                     frames.setdefault(int(step), {})[name] = Body(
                         name, _xyz(positions[k], dimension), _xyz(velocities[k], dimension),
-                        _xyz(centres[k], dimension), _xyz(means[k], dimension), float("nan"), float("nan"))
+                        _xyz(centres[k], dimension), _xyz(means[k], dimension), float("nan"), float("nan"),
+                        rotation["angular_momentum"][k] if "angular_momentum" in rotation else None,
+                        rotation["angular_velocity"][k] if "angular_velocity" in rotation else None,
+                        float(rotation["orientation"][k][0]) if "orientation" in rotation else float("nan"))
             particles = [Particles(step, frames[step]) for step in sorted(frames)]
     return Recording(session, profiles, particles)
