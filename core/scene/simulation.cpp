@@ -123,25 +123,24 @@ class SimulationImpl final : public Simulation {
   // momentum each exchange gives the fluid is still taken from the particle.
   const std::vector<Vec3>& momenta_at_nodes() {
     momenta_at_nodes_ = solid_->momenta();
-    const auto period = [&](int a) {
-      const int n = a == 0 ? scene_.fluid.nx : scene_.fluid.ny;
-      return n * (a == 1 ? L::row_spacing : 1.0);
-    };
+    const double period[3] = {static_cast<double>(scene_.fluid.nx), scene_.fluid.ny * L::row_spacing,
+                              static_cast<double>(scene_.fluid.nz)};
     for (int b = 0; b < solid_->body_count(); ++b) {
       const auto& body = solid_->body(b);
       if (!body.rotates) continue;
-      const double spin = body_state(b).angular_velocity[2];
+      const Vec3 w = body_state(b).angular_velocity;
       for (int p = body.first; p < body.first + body.count; ++p) {
         const auto& node = node_[p];
         const Vec3 at = fluid::FluidLattice<L, T>::position(node[0], node[1], node[2]);
-        double d[2];
-        for (int a = 0; a < 2; ++a) {
+        Vec3 d{0, 0, 0};
+        for (int a = 0; a < L::D; ++a) {
           d[a] = at[a] - solid_->position(p)[a];
-          d[a] -= period(a) * std::round(d[a] / period(a));  // the node across a periodic side
+          d[a] -= period[a] * std::round(d[a] / period[a]);  // the node across a periodic side
         }
         const double m = solid_->mass(p);
-        momenta_at_nodes_[p][0] -= m * spin * d[1];
-        momenta_at_nodes_[p][1] += m * spin * d[0];
+        momenta_at_nodes_[p][0] += m * (w[1] * d[2] - w[2] * d[1]);
+        momenta_at_nodes_[p][1] += m * (w[2] * d[0] - w[0] * d[2]);
+        momenta_at_nodes_[p][2] += m * (w[0] * d[1] - w[1] * d[0]);
       }
     }
     return momenta_at_nodes_;

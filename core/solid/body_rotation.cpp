@@ -13,6 +13,55 @@ Vec3 SolidSystem::rest_offset(int p) const {
   return offset;
 }
 
+namespace {
+
+// The unit eigenvector of the largest eigenvalue of a symmetric 4 x 4 matrix, by cyclic Jacobi
+// rotations (deterministic: the same matrix gives the same vector, bit for bit).
+std::array<double, 4> top_eigenvector(std::array<std::array<double, 4>, 4> a) {
+  std::array<std::array<double, 4>, 4> v{};
+  for (int i = 0; i < 4; ++i) v[i][i] = 1;
+  for (int sweep = 0; sweep < 50; ++sweep) {
+    double off = 0, scale = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) (i == j ? scale : off) += a[i][j] * a[i][j];
+    if (off <= 1e-30 * scale) break;
+    for (int p = 0; p < 3; ++p)
+      for (int q = p + 1; q < 4; ++q) {
+        if (a[p][q] == 0) continue;
+        const double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
+        const double t = (theta >= 0 ? 1 : -1) / (std::abs(theta) + std::sqrt(theta * theta + 1));
+        const double c = 1 / std::sqrt(t * t + 1), s = t * c;
+        for (int k = 0; k < 4; ++k) {  // columns p and q of a, then rows
+          const double akp = a[k][p], akq = a[k][q];
+          a[k][p] = c * akp - s * akq;
+          a[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 4; ++k) {
+          const double apk = a[p][k], aqk = a[q][k];
+          a[p][k] = c * apk - s * aqk;
+          a[q][k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 4; ++k) {
+          const double vkp = v[k][p], vkq = v[k][q];
+          v[k][p] = c * vkp - s * vkq;
+          v[k][q] = s * vkp + c * vkq;
+        }
+      }
+  }
+  int top = 0;
+  for (int i = 1; i < 4; ++i)
+    if (a[i][i] > a[top][top]) top = i;
+  return {v[0][top], v[1][top], v[2][top], v[3][top]};
+}
+
+Rotation rotation_of(double w, double x, double y, double z) {
+  return {{{w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)},
+           {2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)},
+           {2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z}}};
+}
+
+}  // namespace
+
 double SolidSystem::best_fit_angle(int b) const {
   const Body& body = bodies_[b];
   constexpr int kLinks = 4;
@@ -29,28 +78,53 @@ double SolidSystem::best_fit_angle(int b) const {
   return std::atan2(cross, dot);  // the spacing scales both sums alike
 }
 
-void SolidSystem::co_rotate(int b) {
-  Body& body = bodies_[b];
-  body.angle = best_fit_angle(b);
-  const double cos_a = std::cos(body.angle), sin_a = std::sin(body.angle);
-  constexpr int kLinks = 4;
+Rotation SolidSystem::best_fit_rotation(int b) const {
+  if (dimension() == 2) {
+    const double angle = best_fit_angle(b);
+    const double c = std::cos(angle), s = std::sin(angle);
+    return {{{c, -s, 0}, {s, c, 0}, {0, 0, 1}}};
+  }
+  // Horn (1987): with S_ij = sum over links of (rest link)_i (current link)_j, the quaternion of
+  // the best rotation is the top eigenvector of N(S). The rest links are the unit axes (the
+  // spacing scales S as a whole), so S's row k sums the current links along +k.
+  const Body& body = bodies_[b];
+  constexpr int kLinks = 6;
+  double m[3][3] = {};
   for (int p = body.first; p < body.first + body.count; ++p)
-    for (int k = 0; k < 2; ++k) {  // +x and +y: each link once
+    for (int k = 0; k < 3; ++k) {
       const int q = neighbours_[static_cast<std::size_t>(p) * kLinks + k];
       if (q < 0) continue;
-      Vec3& at_q = incoming_[static_cast<std::size_t>(q) * kLinks + k];                      // f_k(q), from p
-      Vec3& at_p = incoming_[static_cast<std::size_t>(p) * kLinks + topology_.opposite(k)];  // f_opp(k)(p), from q
-      // T = R spacing c_k, and D as the step left it.
-      const double tx = k == 0 ? body.spacing * cos_a : -body.spacing * sin_a;
-      const double ty = k == 0 ? body.spacing * sin_a : body.spacing * cos_a;
-      const double shift[2] = {tx - (positions_[q][0] - positions_[p][0] + at_q[0] - at_p[0]),
-                               ty - (positions_[q][1] - positions_[p][1] + at_q[1] - at_p[1])};
-      for (int a = 0; a < 2; ++a) {
-        at_q[a] += shift[a];
-        at_p[a] -= shift[a];
+      for (int a = 0; a < 3; ++a) m[k][a] += positions_[q][a] - positions_[p][a];
+    }
+  const double xx = m[0][0], xy = m[0][1], xz = m[0][2], yx = m[1][0], yy = m[1][1], yz = m[1][2], zx = m[2][0],
+               zy = m[2][1], zz = m[2][2];
+  const auto q = top_eigenvector({{{xx + yy + zz, yz - zy, zx - xz, xy - yx},
+                                   {yz - zy, xx - yy - zz, xy + yx, zx + xz},
+                                   {zx - xz, xy + yx, -xx + yy - zz, yz + zy},
+                                   {xy - yx, zx + xz, yz + zy, -xx - yy + zz}}});
+  return rotation_of(q[0], q[1], q[2], q[3]);
+}
+
+void SolidSystem::co_rotate(int b) {
+  Body& body = bodies_[b];
+  body.frame = best_fit_rotation(b);
+  if (dimension() == 2) body.angle = best_fit_angle(b);
+  const int d = dimension();
+  for (int p = body.first; p < body.first + body.count; ++p)
+    for (int k = 0; k < d; ++k) {  // the links along +x, +y (, +z): each link once
+      const int q = neighbours_[static_cast<std::size_t>(p) * links_ + k];
+      if (q < 0) continue;
+      Vec3& at_q = incoming_[static_cast<std::size_t>(q) * links_ + k];                      // f_k(q), from p
+      Vec3& at_p = incoming_[static_cast<std::size_t>(p) * links_ + topology_.opposite(k)];  // f_opp(k)(p), from q
+      for (int a = 0; a < d; ++a) {
+        // T = R spacing c_k (column k of R), less D as the step left it.
+        const double shift = body.spacing * body.frame[a][k] - (positions_[q][a] - positions_[p][a] + at_q[a] - at_p[a]);
+        at_q[a] += shift;
+        at_p[a] -= shift;
       }
     }
-  update_momentum<kLinks>(body.first, body.first + body.count);
+  links_ == 6 ? update_momentum<6>(body.first, body.first + body.count)
+              : update_momentum<4>(body.first, body.first + body.count);
 }
 
 void SolidSystem::set_spin(int b, const Vec3& velocity, const Vec3& w) {

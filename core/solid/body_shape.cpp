@@ -141,7 +141,6 @@ std::vector<std::string> validate_body_spec(const BodySpec& spec, int dimension,
   if (!finite(spec.angular_velocity)) error("angular_velocity", "must be finite");
   if (dimension == 2 && (spec.angular_velocity[0] != 0 || spec.angular_velocity[1] != 0))
     error("angular_velocity", "a 2D body spins about z only (x and y components zero)");
-  if (spec.rotation && dimension != 2) error("rotation", "only 2D bodies can rotate so far (issue 16)");
   return errors;
 }
 

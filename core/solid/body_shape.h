@@ -30,7 +30,7 @@ struct BodySpec {
   Vec3 velocity{0, 0, 0};  // initial rigid velocity, lattice units per step
   Vec3 load{0, 0, 0};      // external force on every particle, lattice units
   Vec3 angular_velocity{0, 0, 0};  // initial spin about the centre of mass, radians per step (2D: z)
-  bool rotation = false;  // the rest frame turns with the body (SolidSystem; 2D only so far)
+  bool rotation = false;  // the springs' rest frame turns with the body (SolidSystem)
 };
 
 // The labels of a shape, in a fixed order (x fastest). Empty if the shape's size is not positive.

@@ -17,8 +17,6 @@ SolidSystem::SolidSystem(int dimension) : topology_{dimension}, links_(2 * dimen
 int SolidSystem::add_body(const std::string& name, const std::vector<Label>& labels, double spacing,
                           const Vec3& centre, const Vec3& velocity, const Vec3& load, const Vec3& angular_velocity,
                           bool rotates) {
-  if (rotates && dimension() != 2)
-    throw std::invalid_argument("rotation: body '" + name + "': only 2D bodies can rotate so far");
   const int first = particle_count();
   const int n = static_cast<int>(labels.size());
   std::map<Label, int> index;
@@ -62,7 +60,8 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
   links_ == 6 ? update_momentum<6>(first, first + n) : update_momentum<4>(first, first + n);
   if (rotates) {
     any_rotates_ = true;
-    bodies_[body].angle = best_fit_angle(body);
+    bodies_[body].frame = best_fit_rotation(body);
+    if (dimension() == 2) bodies_[body].angle = best_fit_angle(body);
   }
   return body;
 }
@@ -113,7 +112,10 @@ void SolidSystem::restore(const SolidState& state) {
   incoming_ = state.incoming;
   momentum_ = state.momentum;
   for (int b = 0; b < body_count(); ++b)
-    if (bodies_[b].rotates) bodies_[b].angle = best_fit_angle(b);  // as the next step will find it
+    if (bodies_[b].rotates) {  // as the last step left it
+      bodies_[b].frame = best_fit_rotation(b);
+      if (dimension() == 2) bodies_[b].angle = best_fit_angle(b);
+    }
 }
 
 }  // namespace lbsolid::solid

@@ -8,13 +8,14 @@
 // Everything is double: the solid is small beside the fluid and its invariants are checked to
 // round-off.
 //
-// Rotation (issue 16; 2D for now), per body and opt-in. Eqs. 6-7 are a leapfrog of particles
+// Rotation (issue 16), per body and opt-in. Eqs. 6-7 are a leapfrog of particles
 // joined by "vector springs": with D = r_q - r_p + f_k(q) - f_opp(k)(p) for the link from p to
 // q = p + c_k (eq. 11's left side), a step changes Psi_q by the spring force -(r_q - r_p - D) at the
 // new positions (and Psi_p by its opposite), and leaves D unchanged. With D fixed at the placed
 // Delta0, a turned body is pulled back (the paper: it "cannot freely rotate"). After each step of
 // a rotating body, every link's two vectors are shifted by +(T - D) at q and -(T - D) at p, with
-// T = R Delta0 and R the rotation that best maps the rest links onto the new ones: the step's
+// T = R Delta0 and R the rotation that best maps the rest links onto the new ones (2D: an atan2;
+// 3D: Horn's quaternion, the top eigenvector of a 4 x 4 matrix): the step's
 // spring forces are then those of springs at rest along T (co-rotational springs), D becomes
 // 2T - D, and the body's momentum (eq. 8) is unchanged. The spring forces of the best fit have
 // no net torque, so without other forces sum_p r_p x Psi_p is kept to round-off
@@ -35,7 +36,8 @@ struct Body {
   double spacing = 1.0;  // rest distance between linked particles
   Vec3 load{0, 0, 0};    // external force on each particle
   bool rotates = false;  // the springs' rest frame turns with the body (above)
-  double angle = 0;      // rotating bodies: the frame's angle from the placed shape, (-pi, pi]
+  double angle = 0;      // rotating 2D bodies: the frame's angle from the placed shape, (-pi, pi]
+  Rotation frame{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};  // rotating bodies: R, rows of a rotation matrix
   Vec3 rest_centroid{0, 0, 0};  // mass-weighted centroid of spacing * label
 };
 
@@ -58,7 +60,7 @@ class SolidSystem {
   // link's two vectors are (v_l + v_m)/4 with v = velocity + w x (rest offset), so that the shape is
   // the rest shape (eq. 11 with every f difference zero) and the body's momentum is M velocity;
   // rim particles, with fewer links, then move slightly differently from a rigid rotation.
-  // `rotates`: the springs' rest frame turns with the body (2D only; std::invalid_argument in 3D).
+  // `rotates`: the springs' rest frame turns with the body.
   int add_body(const std::string& name, const std::vector<Label>& labels, double spacing,
                const Vec3& centre, const Vec3& velocity, const Vec3& load,
                const Vec3& angular_velocity = {0, 0, 0}, bool rotates = false);
@@ -96,8 +98,10 @@ class SolidSystem {
 
   // Particle p's rest position relative to its body's rest centroid: spacing * label - centroid.
   Vec3 rest_offset(int p) const;
-  // 2D: the angle of the rotation R that best maps body b's rest links onto its current ones
-  // (maximum of sum over links of (r_q - r_p) . R Delta0), in (-pi, pi].
+  // The rotation R that best maps body b's rest links onto its current ones (the maximum of the
+  // sum over links of (r_q - r_p) . R Delta0). For a straight chain in 3D the turn about its own
+  // axis is left undetermined; it changes no T. 2D: its angle, in (-pi, pi].
+  Rotation best_fit_rotation(int b) const;
   double best_fit_angle(int b) const;
 
 

@@ -8,6 +8,7 @@ namespace lbsolid::solid {
 
 using Vec3 = std::array<double, 3>;
 using Label = std::array<int, 3>;
+using Rotation = std::array<std::array<double, 3>, 3>;  // rows
 
 struct SolidTopology {
   int dimension;  // 2 or 3

@@ -1,10 +1,12 @@
-// Rotating bodies (issue 16, solid_system.h), no fluid. A disk set spinning keeps spinning with
-// its shape when its springs turn with it, and cannot turn when they do not (the paper's model);
+// Rotating bodies (issue 16, solid_system.h), no fluid. A disk (and a ball) set spinning keeps
+// spinning with its shape when its springs turn with it, and cannot turn when they do not (the
+// paper's model);
 // without forces its angular momentum sum_p r_p x Psi_p is kept to round-off (the best fit's spring
 // forces have no net torque), under loads the momentum changes by exactly the loads (eq. 8), and a
 // restored state continues bit for bit (the frame is found from the state alone).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -147,34 +149,39 @@ TEST(BodyRotation, WithFixedSpringsTheSameDiskCannotTurn) {
   EXPECT_GT(r.angular_momentum_change, 1.0);  // the spin reverses
 }
 
-// Random loads on a spinning chain and a rotating sheet: each step changes the total momentum by
-// exactly the loads' sum (eq. 8), to round-off.
+// Random loads on a spinning chain and a rotating sheet (2D) or box (3D): each step changes the
+// total momentum by exactly the loads' sum (eq. 8), to round-off.
 TEST(BodyRotation, UnderLoadsTheMomentumChangesByTheLoads) {
-  SolidSystem s(2);
-  BodySpec chain;
-  chain.shape = BodyShape::kChain;
-  chain.length = 9;
-  BodySpec sheet;
-  sheet.size = {5, 4, 1};
-  s.add_body("chain", body_labels(chain, 2), 0.8, {10, 10, 0}, {0.01, 0, 0}, {0, 0, 0}, {0, 0, 0.02}, true);
-  s.add_body("sheet", body_labels(sheet, 2), 1.0, {30, 10, 0}, {0, 0.01, 0}, {0, 0, 0}, {0, 0, -0.01}, true);
-  std::mt19937_64 rng(16);
-  std::uniform_real_distribution<double> load(-0.01, 0.01);
-  std::vector<Vec3> force(s.particle_count());
-  double worst = 0;
-  for (int t = 0; t < 500; ++t) {
-    Vec3 sum{0, 0, 0};
-    for (auto& f : force) {
-      f = {load(rng), load(rng), 0};
-      for (int a = 0; a < 2; ++a) sum[a] += f[a];
+  for (int dimension : {2, 3}) {
+    SolidSystem s(dimension);
+    BodySpec chain;
+    chain.shape = BodyShape::kChain;
+    chain.length = 9;
+    BodySpec sheet;
+    sheet.size = {5, 4, dimension == 3 ? 3 : 1};
+    const double z = dimension == 3 ? 10 : 0;
+    s.add_body("chain", body_labels(chain, dimension), 0.8, {10, 10, z}, {0.01, 0, 0}, {0, 0, 0},
+               {0, 0.01 * (dimension == 3), 0.02}, true);
+    s.add_body("sheet", body_labels(sheet, dimension), 1.0, {30, 10, z}, {0, 0.01, 0}, {0, 0, 0},
+               {0.005 * (dimension == 3), 0, -0.01}, true);
+    std::mt19937_64 rng(16);
+    std::uniform_real_distribution<double> load(-0.01, 0.01);
+    std::vector<Vec3> force(s.particle_count());
+    double worst = 0;
+    for (int t = 0; t < 500; ++t) {
+      Vec3 sum{0, 0, 0};
+      for (auto& f : force) {
+        f = {load(rng), load(rng), dimension == 3 ? load(rng) : 0.0};
+        for (int a = 0; a < 3; ++a) sum[a] += f[a];
+      }
+      const Vec3 before = s.total_momentum();
+      s.step(force);
+      const Vec3 after = s.total_momentum();
+      for (int a = 0; a < 3; ++a) worst = std::max(worst, std::abs(after[a] - before[a] - sum[a]));
     }
-    const Vec3 before = s.total_momentum();
-    s.step(force);
-    const Vec3 after = s.total_momentum();
-    for (int a = 0; a < 2; ++a) worst = std::max(worst, std::abs(after[a] - before[a] - sum[a]));
+    report(std::to_string(dimension) + "D: |momentum change - sum of loads|", worst, 1e-14);
+    EXPECT_LT(worst, 1e-14);
   }
-  report("|momentum change - sum of loads|", worst, 1e-14);
-  EXPECT_LT(worst, 1e-14);
 }
 
 // The frame is the best fit of the positions, so a saved state needs nothing more: restored into
@@ -194,16 +201,104 @@ TEST(BodyRotation, ARestoredSpinContinuesBitForBit) {
   EXPECT_EQ(a.body(0).angle, b.body(0).angle);
 }
 
-TEST(BodyRotation, ThreeDimensionalBodiesAreRefusedForNow) {
+// 3D: a ball spinning about a tilted axis. The turn is summed step by step from the best-fit
+// rotations (the angle of R_t R_{t-1}^T), the deformation measured in the body's frame.
+struct BallSpin {
+  double turned = 0, largest_angle = 0, deformation = 0, angular_momentum_change = 0, momentum_change = 0;
+  double spin = 0;  // |w| at the start, from L and I about the centre of mass
+};
+
+double angle_between(const Rotation& a, const Rotation& b) {  // of a b^T
+  double trace = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) trace += a[i][k] * b[i][k];
+  return std::acos(std::clamp((trace - 1) / 2, -1.0, 1.0));
+}
+
+Vec3 angular_momentum_3d(const SolidSystem& s) {
+  Vec3 l{0, 0, 0};
+  for (int p = 0; p < s.particle_count(); ++p) {
+    const Vec3& r = s.position(p);
+    const Vec3 psi = s.momentum(p);
+    l[0] += r[1] * psi[2] - r[2] * psi[1];
+    l[1] += r[2] * psi[0] - r[0] * psi[2];
+    l[2] += r[0] * psi[1] - r[1] * psi[0];
+  }
+  return l;
+}
+
+BallSpin spin_ball(bool rotates, int steps) {
   SolidSystem s(3);
-  BodySpec cube;
-  cube.size = {2, 2, 2};
-  EXPECT_THROW(s.add_body("cube", body_labels(cube, 3), 1.0, {5, 5, 5}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, true),
-               std::invalid_argument);
-  cube.rotation = true;
-  const auto errors = validate_body_spec(cube, 3, "scenario.bodies[1]");
-  ASSERT_EQ(errors.size(), 1u);
-  EXPECT_NE(errors[0].find("scenario.bodies[1].rotation: only 2D bodies"), std::string::npos) << errors[0];
+  BodySpec ball;
+  ball.shape = BodyShape::kDisk;
+  ball.radius = 3;
+  s.add_body("ball", body_labels(ball, 3), 1.0, {10, 10, 10}, {0.002, 0, -0.001}, {0, 0, 0},
+             {0.0036, 0.0048, 0.008}, rotates);  // 0.01 rad a step about (0.36, 0.48, 0.8)
+  const Vec3 l0 = angular_momentum_3d(s), p0 = s.total_momentum();
+  const double l_size = std::sqrt(l0[0] * l0[0] + l0[1] * l0[1] + l0[2] * l0[2]);
+  BallSpin r;
+  {
+    // A lattice ball has a cube's symmetry, so its inertia tensor is (2/3) sum M |r - c|^2 times 1.
+    Vec3 c{0, 0, 0};
+    double mass = 0, inertia = 0;
+    for (int p = 0; p < s.particle_count(); ++p) {
+      mass += s.mass(p);
+      for (int a = 0; a < 3; ++a) c[a] += s.mass(p) * s.position(p)[a];
+    }
+    for (int a = 0; a < 3; ++a) c[a] /= mass;
+    for (int p = 0; p < s.particle_count(); ++p)
+      for (int a = 0; a < 3; ++a) inertia += 2.0 / 3 * s.mass(p) * std::pow(s.position(p)[a] - c[a], 2);
+    const Vec3 own{l0[0] - (c[1] * p0[2] - c[2] * p0[1]), l0[1] - (c[2] * p0[0] - c[0] * p0[2]),
+                   l0[2] - (c[0] * p0[1] - c[1] * p0[0])};
+    r.spin = std::sqrt(own[0] * own[0] + own[1] * own[1] + own[2] * own[2]) / inertia;
+  }
+  const Rotation start = s.best_fit_rotation(0);
+  Rotation last = start;
+  const std::vector<Vec3> no_force(s.particle_count(), Vec3{0, 0, 0});
+  for (int t = 0; t < steps; ++t) {
+    s.step(no_force);
+    const Rotation now = s.best_fit_rotation(0);
+    r.turned += angle_between(now, last);
+    r.largest_angle = std::max(r.largest_angle, angle_between(now, start));
+    last = now;
+    const Vec3 l = s.total_momentum(), a = angular_momentum_3d(s);
+    for (int c = 0; c < 3; ++c) {
+      r.momentum_change = std::max(r.momentum_change, std::abs(l[c] - p0[c]));
+      r.angular_momentum_change = std::max(r.angular_momentum_change, std::abs(a[c] - l0[c]) / l_size);
+    }
+    for (int p = 0; p < s.particle_count(); ++p)
+      for (int k = 0; k < 3; ++k) {
+        const int q = s.neighbour(p, k);
+        if (q < 0) continue;
+        double e2 = 0;
+        for (int c = 0; c < 3; ++c) {
+          const double e = s.position(q)[c] - s.position(p)[c] - now[c][k];
+          e2 += e * e;
+        }
+        r.deformation = std::max(r.deformation, std::sqrt(e2));
+      }
+  }
+  return r;
+}
+
+// About three turns (2000 steps at 0.0095). Bounds as for the disk: round-off for the momenta;
+// the deformation measured (0.44% of a spacing) with room; the turn within 1% of the spin L / I
+// gives (the spin asked for, 0.01, is 5% more: a ball has many surface particles, whose links
+// start a little slower than a rigid rotation).
+TEST(BodyRotation, ASpinningBallKeepsSpinningWithItsShape) {
+  const BallSpin r = spin_ball(true, 2000);
+  report("3D: turned / (|L| / I x steps)", r.turned / (r.spin * 2000), 0.01);
+  report("3D: angular momentum change (relative, per component)", r.angular_momentum_change, 1e-11);
+  report("3D: momentum change", r.momentum_change, 1e-13);
+  report("3D: largest deformation in the body's frame (spacings)", r.deformation, 0.01);
+  EXPECT_NEAR(r.turned / (r.spin * 2000), 1.0, 0.01);
+  EXPECT_LT(r.angular_momentum_change, 1e-11);
+  EXPECT_LT(r.momentum_change, 1e-13);
+  EXPECT_LT(r.deformation, 0.01);
+  // With fixed springs it rocks about its placed orientation instead.
+  const BallSpin fixed = spin_ball(false, 2000);
+  report("3D, fixed springs: largest angle from the start (rad)", fixed.largest_angle, 0.05);
+  EXPECT_LT(fixed.largest_angle, 0.05);
 }
 
 }  // namespace
