@@ -92,6 +92,31 @@ double mach(const Scene& scene, const solid::Vec3& u) {
   return std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) / sound_speed(scene.lattice);
 }
 
+// The Mach number of the fastest particle of a spinning body at the start: its velocity plus the
+// spin's at the particle farthest from the centre of mass (solid::SolidSystem::add_body).
+double initial_rim_mach(const Scene& scene, const solid::BodySpec& spec) {
+  const int dimension = lattice_dimension(scene.lattice);
+  const auto labels = solid::body_labels(spec, dimension);
+  const auto masses = solid::link_masses(labels, solid::SolidTopology{dimension});
+  solid::Vec3 centre{0, 0, 0};
+  double mass = 0;
+  for (std::size_t p = 0; p < labels.size(); ++p) {
+    mass += masses[p];
+    for (int a = 0; a < 3; ++a) centre[a] += masses[p] * spec.spacing * labels[p][a];
+  }
+  double fastest = mach(scene, spec.velocity);
+  if (!(mass > 0)) return fastest;
+  const auto& w = spec.angular_velocity;
+  for (const auto& l : labels) {
+    solid::Vec3 r;
+    for (int a = 0; a < 3; ++a) r[a] = spec.spacing * l[a] - centre[a] / mass;
+    const solid::Vec3 u{spec.velocity[0] + w[1] * r[2] - w[2] * r[1], spec.velocity[1] + w[2] * r[0] - w[0] * r[2],
+                        spec.velocity[2] + w[0] * r[1] - w[1] * r[0]};
+    fastest = std::max(fastest, mach(scene, u));
+  }
+  return fastest;
+}
+
 void check_monitor(const MonitorSpec& m, std::vector<std::string>& errors) {
   if (m.interval < 0)
     errors.push_back("monitor.interval: must be 0 (off) or a number of steps, got " + std::to_string(m.interval));
@@ -116,10 +141,15 @@ void check_speeds(const Scene& scene, std::vector<std::string>& errors) {
       errors.push_back(std::string("sides.") + fluid::side_name(side) + ".wall_velocity: Mach number " +
                        number(mach(scene, b.wall_velocity)) + " must stay below 1");
   }
-  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     if (!(mach(scene, scene.bodies[b].velocity) < 1))
       errors.push_back("bodies[" + std::to_string(b) + "].velocity: initial Mach number " +
                        number(mach(scene, scene.bodies[b].velocity)) + " must stay below 1");
+    else if (scene.bodies[b].angular_velocity != solid::Vec3{0, 0, 0})
+      if (const double rim = initial_rim_mach(scene, scene.bodies[b]); !(rim < 1))
+        errors.push_back("bodies[" + std::to_string(b) + "].angular_velocity: the fastest particle's initial Mach number " +
+                         number(rim) + " must stay below 1");
+  }
 }
 
 // The cell of the node nearest to each position, at the start, on the scene's lattice.
@@ -299,6 +329,10 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
     if (m > kMachWarning)
       warnings.push_back("bodies[" + std::to_string(b) + "].velocity: initial Mach number " + number(m) +
                          " is above " + number(kMachWarning));
+    else if (scene.bodies[b].angular_velocity != solid::Vec3{0, 0, 0})
+      if (const double rim = initial_rim_mach(scene, scene.bodies[b]); rim > kMachWarning)
+        warnings.push_back("bodies[" + std::to_string(b) + "].angular_velocity: the fastest particle's initial Mach number " +
+                           number(rim) + " is above " + number(kMachWarning));
   }
   if (scene.exchange == coupling::ExchangeRule::kPairwise && !scene.bodies.empty()) {
     const auto [factor, particles] = pairwise_overcorrection(scene);

@@ -294,6 +294,23 @@ TEST(SceneWarnings, NameTheQuantityNearTheEdge) {
   EXPECT_TRUE(scene_warnings(s).empty());
 }
 
+// A spin is a speed too: the disk of radius 2 has particles 2 spacings from its centre, so a spin
+// of 0.5 moves them at 1, Mach 2 on D2Q7 (c_s = 1/2), and 0.03 at Mach 0.12.
+TEST(SceneValidation, ASpinWhoseRimPassesTheSpeedOfSoundIsRefused) {
+  Scene s = channel();
+  s.bodies.push_back(disk_at(10, 5));
+  s.bodies.back().angular_velocity = {0, 0, 0.5};
+  s.bodies.back().rotation = true;
+  const auto errors = validate_scene(s);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0], "bodies[0].angular_velocity: the fastest particle's initial Mach number 2 must stay below 1");
+  s.bodies.back().angular_velocity = {0, 0, -0.03};
+  ASSERT_TRUE(validate_scene(s).empty());
+  const auto warnings = scene_warnings(s);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], "bodies[0].angular_velocity: the fastest particle's initial Mach number 0.12 is above 0.1");
+}
+
 TEST(SceneWarnings, MassRatioPerNode) {
   Scene s;
   s.fluid.nx = s.fluid.ny = 16;
