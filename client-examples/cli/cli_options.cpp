@@ -135,6 +135,10 @@ void parse_into(CommandLine& line, const std::vector<std::string>& args, const c
       line.help = true;
       continue;
     }
+    if (arg == "--version") {
+      line.version = true;
+      continue;
+    }
     if (arg.rfind("--", 0) != 0) throw UsageError("unknown option '" + arg + "'");
     std::string name = arg.substr(2), value;
     const auto equals = name.find('=');
@@ -160,7 +164,7 @@ void parse_into(CommandLine& line, const std::vector<std::string>& args, const c
     line.flags[name] = value;
   }
   if (!server_given && env_server && *env_server) line.global.server = env_server;
-  if (line.help) return;
+  if (line.help || line.version) return;
   if (!command) throw UsageError("no command given");
   if (line.positional.size() < command->positionals.size())
     throw UsageError(command->name + ": missing " + command->positionals[line.positional.size()]);
@@ -196,6 +200,7 @@ std::string usage_text() {
       "  --server HOST:PORT  the daemon (default $LBSOLID_SERVER, else 127.0.0.1:50051)\n"
       "  --timeout SECONDS   deadline of each call (default 30); streams followed while waiting\n"
       "                      have none\n"
+      "  --version           print the version and git revision\n"
       "  --json              print exactly one JSON object on stdout (one per line for watch),\n"
       "                      errors included as {\"error\": {...}}\n"
       "  --tls-ca FILE       TLS: trust the daemon's certificate if this CA (PEM) signed it\n"

@@ -50,6 +50,7 @@ const CommandSpec* find_command(std::string_view name);
 struct CommandLine {
   GlobalOptions global;
   bool help = false;  // --help, -h or `help`: print usage (of `command` if one was given)
+  bool version = false;  // --version: print the version and git revision
   std::string command;
   std::vector<std::string> positional;
   std::map<std::string, std::string> flags;  // given flags of the command; switches map to ""

@@ -12,6 +12,7 @@
 #include "cli_options.h"
 #include "commands.h"
 #include "result_writer.h"
+#include "server/version.h"
 
 namespace {
 
@@ -64,6 +65,10 @@ int main(int argc, char** argv) {
   std::optional<CommandLine> line;
   try {
     line = parse_command_line(args, std::getenv("LBSOLID_SERVER"));
+    if (line->version) {
+      std::printf("lbsolid %s (%s)\n", LBSOLID_VERSION, LBSOLID_GIT_REVISION);
+      return kExitOk;
+    }
     if (line->help) {
       const CommandSpec* spec = line->command.empty() ? nullptr : find_command(line->command);
       std::fputs(spec ? command_usage(*spec).c_str() : usage_text().c_str(), stdout);

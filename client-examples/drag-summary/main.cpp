@@ -12,6 +12,7 @@
 #include "scenario_attribute.h"
 #include "server/api/scenario_translation.h"
 #include "server/storage/h5md_file.h"
+#include "server/version.h"
 #include "summary_report.h"
 
 namespace {
@@ -32,6 +33,10 @@ void write_text(const fs::path& path, const std::string& text) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 2 && std::string(argv[1]) == "--version") {
+    std::printf("lbsolid-drag-summary %s (%s)\n", LBSOLID_VERSION, LBSOLID_GIT_REVISION);
+    return 0;
+  }
   if (argc != 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     std::fprintf(argc == 2 ? stdout : stderr,
                  "Usage: lbsolid-drag-summary DIR\n"

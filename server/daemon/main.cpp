@@ -25,6 +25,8 @@
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
 #include "absl/flags/usage.h"
+#include "absl/flags/usage_config.h"
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/time/time.h"
@@ -125,6 +127,13 @@ int fail_start(const std::string& message) {
 
 int main(int argc, char** argv) {
   absl::SetProgramUsageMessage("lbsolidd [--listen HOST:PORT] [--data_dir DIR] [--workers N] ...");
+  // --help lists the flags of this file (Abseil's default matches files named like the binary,
+  // and there is none: it said "No flags matched"); --version names the build.
+  absl::FlagsUsageConfig usage;
+  usage.contains_help_flags = [](absl::string_view file) { return absl::EndsWith(file, "daemon/main.cpp"); };
+  usage.contains_helpshort_flags = usage.contains_help_flags;
+  usage.version_string = [] { return std::string("lbsolidd ") + LBSOLID_VERSION + " (" + LBSOLID_GIT_REVISION + ")\n"; };
+  absl::SetFlagsUsageConfig(usage);
   absl::ParseCommandLine(argc, argv);
   spdlog::set_level(spdlog::level::from_str(absl::GetFlag(FLAGS_log_level)));
   spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
@@ -236,6 +245,8 @@ int main(int argc, char** argv) {
   // A Unix socket has no port: gRPC reports 1 for it.
   if (!server || port == 0) return fail_start("--listen: cannot serve on " + absl::GetFlag(FLAGS_listen));
   server->GetHealthCheckService()->SetServingStatus(true);
+  // Probes that name the service (Kubernetes' gRPC probes) get the same answer as those that do not.
+  server->GetHealthCheckService()->SetServingStatus("lbsolid.v1.Simulation", true);
   if (!absl::GetFlag(FLAGS_port_file).empty()) {
     try {  // readers never see a half-written number
       lbsolid::server::storage::write_text_file_replacing(absl::GetFlag(FLAGS_port_file), absl::StrCat(port, "\n"));
@@ -268,6 +279,7 @@ int main(int argc, char** argv) {
   // flight finish, or are cancelled after the grace period), so that nothing is answered OK after
   // its session was saved; then the saves.
   server->GetHealthCheckService()->SetServingStatus(false);
+  server->GetHealthCheckService()->SetServingStatus("lbsolid.v1.Simulation", false);
   manager->pause_all();
   server->Shutdown(std::chrono::system_clock::now() + kShutdownGrace);
   const auto unsaved = manager->shutdown();

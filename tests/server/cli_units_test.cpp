@@ -195,6 +195,12 @@ TEST(CliOptions, OtherCommands) {
   EXPECT_EQ(parse({"fetch", "s-1", "--out", "d"}).flags.at("out"), "d");
 }
 
+TEST(CliOptions, Version) {
+  EXPECT_TRUE(parse({"--version"}).version);
+  EXPECT_TRUE(parse({"--server", "h:1", "--version"}).version);
+  EXPECT_FALSE(parse({"list"}).version);
+}
+
 TEST(CliOptions, Help) {
   EXPECT_TRUE(parse({"--help"}).help);
   EXPECT_TRUE(parse({"-h"}).help);

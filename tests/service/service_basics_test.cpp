@@ -40,6 +40,32 @@ TEST_F(ServiceBasics, HealthServiceSaysServing) {
   const grpc::Status status = health_check(daemon_.channel(), &bytes);
   ASSERT_TRUE(status.ok()) << status.error_message();
   EXPECT_EQ(bytes, std::string("\x08\x01", 2));  // HealthCheckResponse{status: SERVING}
+  // By the service's name too, as Kubernetes' gRPC probes ask; a name the daemon does not serve is
+  // NOT_FOUND, so the answer is not the same whatever is asked.
+  bytes.clear();
+  const grpc::Status named = health_check(daemon_.channel(), &bytes, "lbsolid.v1.Simulation");
+  ASSERT_TRUE(named.ok()) << named.error_message();
+  EXPECT_EQ(bytes, std::string("\x08\x01", 2));
+  EXPECT_EQ(health_check(daemon_.channel(), &bytes, "lbsolid.v1.Nothing").error_code(), grpc::StatusCode::NOT_FOUND);
+}
+
+// lbsolidd --help lists its flags (it said "No flags matched"), --version names the build.
+TEST(DaemonCommandLine, HelpListsTheFlagsAndVersionNamesTheBuild) {
+  const auto output_of = [](const std::string& args) {
+    FILE* pipe = popen((std::string(LBSOLIDD_PATH) + " " + args + " 2>&1").c_str(), "r");
+    std::string out;
+    char buffer[4096];
+    while (std::size_t n = fread(buffer, 1, sizeof buffer, pipe)) out.append(buffer, n);
+    pclose(pipe);
+    return out;
+  };
+  const std::string help = output_of("--help");
+  for (const char* flag : {"--listen", "--data_dir", "--tokens_file", "--owner_call_rate", "--max_memory"})
+    EXPECT_NE(help.find(flag), std::string::npos) << flag << " missing from --help:\n" << help;
+  EXPECT_EQ(help.find("No flags matched"), std::string::npos) << help;
+  const std::string version = output_of("--version");
+  EXPECT_EQ(version.rfind("lbsolidd 0.", 0), 0u) << version;
+  EXPECT_NE(version.find("("), std::string::npos) << version;  // the git revision
 }
 
 TEST_F(ServiceBasics, ReflectionListsAndDescribesTheService) {

@@ -171,10 +171,13 @@ inline grpc::Status restore(v1::Simulation::Stub& stub, const std::string& check
 // Through a completion queue that this thread drains, not the callback API: a callback runs on
 // a gRPC thread, where its writes hand back to this one through gRPC's own (uninstrumented)
 // synchronisation, which ThreadSanitizer cannot see and reported as a race in the test.
-inline grpc::Status health_check(const std::shared_ptr<grpc::Channel>& channel, std::string* bytes) {
+// grpc.health.v1.Health/Check for `service` ("" for the whole server); *bytes is the raw answer.
+inline grpc::Status health_check(const std::shared_ptr<grpc::Channel>& channel, std::string* bytes,
+                                 const std::string& service = "") {
   grpc::GenericStub generic(channel);
-  grpc::Slice empty_message("");
-  grpc::ByteBuffer request(&empty_message, 1), response;
+  // HealthCheckRequest{service = 1}: the field's tag, its length (one byte: names under 128) and the name.
+  grpc::Slice message(service.empty() ? std::string() : std::string(1, '\x0a') + char(service.size()) + service);
+  grpc::ByteBuffer request(&message, 1), response;
   auto context = deadline_context();
   grpc::CompletionQueue queue;
   auto call = generic.PrepareUnaryCall(context.get(), "/grpc.health.v1.Health/Check", request, &queue);
