@@ -22,7 +22,8 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPOSITORY / "client-examples" / "python"))
 
-from lbsolid_client import Client, LocalDaemon, SessionFailed, load_scenario, retryable  # noqa: E402
+from lbsolid_client import (Client, InvalidArgument, LocalDaemon, NotFound, SessionFailed, load_scenario,  # noqa: E402
+                            retryable)
 
 SCENARIO = Path(__file__).resolve().parent / "python_small_scenario.textproto"
 REFERENCE = Path(os.environ.get("LBSOLID_REFERENCE", REPOSITORY / "build" / "tests" / "lbsolid-reference"))
@@ -187,11 +188,20 @@ class PythonClientMatchesCore(unittest.TestCase):
         import grpc
         scenario = load_scenario(SCENARIO)
         scenario.fluid.omega = 2.5
-        with self.assertRaises(grpc.RpcError) as caught:
+        with self.assertRaises(InvalidArgument) as caught:  # typed, and still a grpc.RpcError
             self.client.create(scenario)
+        self.assertIsInstance(caught.exception, grpc.RpcError)
         self.assertEqual(caught.exception.code(), grpc.StatusCode.INVALID_ARGUMENT)
-        self.assertIn("scenario.fluid.omega", caught.exception.details())
+        self.assertEqual(caught.exception.field, "scenario.fluid.omega")
+        self.assertTrue(caught.exception.reason.startswith("must lie in (0, 2)"), caught.exception.reason)
+        self.assertEqual(caught.exception.rpc, "CreateSession")
         self.assertFalse(retryable(caught.exception))
+        with self.assertRaises(NotFound) as missing:
+            self.client.session("s-0123456789abcdef0123456789abcdef").get()
+        self.assertEqual(missing.exception.field, "session_id")
+        # A stream's refusal arrives as the stream is read: typed as well.
+        with self.assertRaises(NotFound):
+            list(self.client.session("s-0123456789abcdef0123456789abcdef").watch_profiles(every=1))
 
     def test_a_request_over_the_message_limit_is_not_retryable(self):
         # gRPC refuses it as RESOURCE_EXHAUSTED, a code that is otherwise worth a retry; this one

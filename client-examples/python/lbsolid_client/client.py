@@ -5,8 +5,9 @@
     record = session.run_and_record(15000, particles_every=100, bodies=["disk"])
     u = [frame.bodies["disk"].mean_velocity[0] for frame in record.particles]
 
-Every call has a deadline (`timeout`, seconds). Errors from the daemon arrive as grpc.RpcError
-with the status code and a message naming the field at fault; a session that fails while running
+Every call has a deadline (`timeout`, seconds). Errors from the daemon arrive as typed errors
+(errors.py: InvalidArgument, NotFound, ... each a grpc.RpcError with code(), details(), and the
+field at fault and the reason when the daemon names one); a session that fails while running
 raises SessionFailed with the daemon's "step N: cause". `retryable(error)` says whether retrying the
 same call can help (as the CLI's exit code 3 does).
 """
@@ -24,6 +25,7 @@ from google.protobuf import json_format, text_format
 
 from ._stubs import scenario_pb2, simulation_pb2 as pb, simulation_pb2_grpc
 from .credentials import open_channel
+from .errors import TypedStub
 from .h5md import recording_from_h5md
 from .progress import ProgressBar
 
@@ -143,7 +145,7 @@ class Client:
         self.address = address
         self.timeout = timeout
         self.channel = open_channel(address, tls_ca, client_cert, client_key, token, options)
-        self.stub = simulation_pb2_grpc.SimulationStub(self.channel)
+        self.stub = TypedStub(simulation_pb2_grpc.SimulationStub(self.channel))
 
     def close(self):
         self.channel.close()
