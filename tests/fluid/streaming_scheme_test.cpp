@@ -95,6 +95,20 @@ std::unique_ptr<FluidLattice<L, double>> varied_box(bool walled, StreamingScheme
   return fluid;
 }
 
+// check(fluid, walled, scheme) on varied_box() walled and periodic, in both schemes, after 0, 1, 2
+// and 8 steps (odd and even counts: the in-place scheme stores populations differently after each).
+template <class L, class Check>
+void for_each_varied_state(const Check& check) {
+  for (const bool walled : {true, false})
+    for (const auto scheme : {StreamingScheme::kTwoBuffer, StreamingScheme::kInPlace}) {
+      auto fluid = varied_box<L>(walled, scheme);
+      for (long steps : {0L, 1L, 1L, 6L}) {
+        fluid->run(steps);
+        check(*fluid, walled, scheme);
+      }
+    }
+}
+
 // The velocity profile streamed to clients takes each row's populations through one set of
 // sources for the interior nodes (add_row_velocity_x); it must give the very values that
 // velocity(x, y, z), which resolves every node through its own sources, gives: in both schemes,
@@ -102,24 +116,17 @@ std::unique_ptr<FluidLattice<L, double>> varied_box(bool walled, StreamingScheme
 // walls, corners and the periodic x sides of walled_box() and a periodic box.
 TYPED_TEST(StreamingSchemeTest, RowVelocitySumsEqualPerNodeVelocitiesBitForBit) {
   using L = TypeParam;
-  for (const bool walled : {true, false}) {
-    for (const auto scheme : {StreamingScheme::kTwoBuffer, StreamingScheme::kInPlace}) {
-      auto owned = varied_box<L>(walled, scheme);
-      auto& fluid = *owned;
-      const FluidConfig& c = fluid.config();
-      for (long steps : {0L, 1L, 1L, 6L}) {
-        fluid.run(steps);
-        for (int z = 0; z < c.nz; ++z)
-          for (int y = 0; y < c.ny; ++y) {
-            double fast = 0, per_node = 0;
-            fluid.add_row_velocity_x(y, z, fast);
-            for (int x = 0; x < c.nx; ++x) per_node += fluid.velocity(x, y, z)[0];
-            ASSERT_EQ(fast, per_node) << "row " << y << ", layer " << z << ", walled " << walled << ", scheme "
-                                      << static_cast<int>(scheme) << ", step " << fluid.step_count();
-          }
+  for_each_varied_state<L>([](const FluidLattice<L, double>& fluid, bool walled, StreamingScheme scheme) {
+    const FluidConfig& c = fluid.config();
+    for (int z = 0; z < c.nz; ++z)
+      for (int y = 0; y < c.ny; ++y) {
+        double fast = 0, per_node = 0;
+        fluid.add_row_velocity_x(y, z, fast);
+        for (int x = 0; x < c.nx; ++x) per_node += fluid.velocity(x, y, z)[0];
+        ASSERT_EQ(fast, per_node) << "row " << y << ", layer " << z << ", walled " << walled << ", scheme "
+                                  << static_cast<int>(scheme) << ", step " << fluid.step_count();
       }
-    }
-  }
+  });
 }
 
 // Field reads (GetField, field snapshots) take whole rows through row_moments: every node's
@@ -128,28 +135,21 @@ TYPED_TEST(StreamingSchemeTest, RowVelocitySumsEqualPerNodeVelocitiesBitForBit) 
 // with walls and without.
 TYPED_TEST(StreamingSchemeTest, RowMomentsEqualPerNodeMomentsBitForBit) {
   using L = TypeParam;
-  for (const bool walled : {true, false}) {
-    for (const auto scheme : {StreamingScheme::kTwoBuffer, StreamingScheme::kInPlace}) {
-      auto owned = varied_box<L>(walled, scheme);
-      auto& fluid = *owned;
-      const FluidConfig& c = fluid.config();
-      for (long steps : {0L, 1L, 1L, 6L}) {
-        fluid.run(steps);
-        for (int z = 0; z < c.nz; ++z)
-          for (int y = 0; y < c.ny; ++y)
-            for (const auto [first, count] : {std::pair{0, c.nx}, std::pair{1, c.nx - 2}, std::pair{c.nx - 1, 1}}) {
-              std::vector<double> density(count), velocity(3 * count);
-              fluid.row_moments(y, z, first, count, density.data(), velocity.data());
-              for (int k = 0; k < count; ++k) {
-                const auto m = fluid.moments(first + k, y, z);
-                ASSERT_EQ(density[k], m.rho) << "node " << first + k << ", row " << y << ", step " << fluid.step_count();
-                for (int a = 0; a < 3; ++a)
-                  ASSERT_EQ(velocity[3 * k + a], m.u[a]) << "node " << first + k << ", row " << y << ", axis " << a;
-              }
-            }
-      }
-    }
-  }
+  for_each_varied_state<L>([](const FluidLattice<L, double>& fluid, bool, StreamingScheme) {
+    const FluidConfig& c = fluid.config();
+    for (int z = 0; z < c.nz; ++z)
+      for (int y = 0; y < c.ny; ++y)
+        for (const auto [first, count] : {std::pair{0, c.nx}, std::pair{1, c.nx - 2}, std::pair{c.nx - 1, 1}}) {
+          std::vector<double> density(count), velocity(3 * count);
+          fluid.row_moments(y, z, first, count, density.data(), velocity.data());
+          for (int k = 0; k < count; ++k) {
+            const auto m = fluid.moments(first + k, y, z);
+            ASSERT_EQ(density[k], m.rho) << "node " << first + k << ", row " << y << ", step " << fluid.step_count();
+            for (int a = 0; a < 3; ++a)
+              ASSERT_EQ(velocity[3 * k + a], m.u[a]) << "node " << first + k << ", row " << y << ", axis " << a;
+          }
+        }
+  });
 }
 
 }  // namespace
