@@ -1,7 +1,5 @@
 #include "coupling/momentum_exchange.h"
 
-#include <algorithm>
-
 namespace lbsolid::coupling {
 
 const char* exchange_rule_name(ExchangeRule rule) {
@@ -14,127 +12,173 @@ const char* exchange_rule_name(ExchangeRule rule) {
 
 MomentumExchange::MomentumExchange(const std::array<int, 3>& grid, ExchangeRule rule)
     : rule_(rule),
-      ny_(grid[1]),
-      rows_(static_cast<long>(grid[1]) * grid[2]),
-      head_(static_cast<std::size_t>(grid[0]) * grid[1] * grid[2], -1) {}
+      grid_(grid),
+      cells_(static_cast<long>(grid[0]) * grid[1] * grid[2]),
+      block_shift_(6),
+      touched_(static_cast<std::size_t>((cells_ + 63) / 64), 0),
+      slot_of_cell_(static_cast<std::size_t>(cells_), 0) {
+  while ((cells_ >> block_shift_) > kBalanceBlocks) ++block_shift_;
+  block_count_.assign(static_cast<std::size_t>((cells_ >> block_shift_) + 1), 0);
+}
+
+void MomentumExchange::Slots::resize(std::size_t n) {
+  node.resize(n);
+  mass.resize(n);
+  momentum.resize(n);
+  fluid.resize(n);
+  velocity.resize(n);
+  gained.resize(n);
+}
+
+std::size_t MomentumExchange::Slots::bytes_allocated() const {
+  return node.capacity() * sizeof(Node) + mass.capacity() * sizeof(double) +
+         (momentum.capacity() + velocity.capacity() + gained.capacity()) * sizeof(fluid::Vec3) +
+         fluid.capacity() * sizeof(fluid::DensityMomentum);
+}
 
 std::size_t MomentumExchange::bytes_allocated() const {
-  return head_.capacity() * sizeof(int) + (next_.capacity() + by_row_.capacity()) * sizeof(int) +
-         (row_of_.capacity() + row_start_.capacity() + nodes_in_row_.capacity() + slot_cell_.capacity() +
-          cursor_.capacity()) * sizeof(long) +
-         slot_node_.capacity() * sizeof(Node) + slot_fluid_.capacity() * sizeof(fluid::DensityMomentum) +
-         slot_gained_.capacity() * sizeof(fluid::Vec3);
+  return (cell_.capacity() + slot_.capacity()) * sizeof(std::uint32_t) + touched_.capacity() * sizeof(std::uint64_t) +
+         slot_of_cell_.capacity() * sizeof(std::uint32_t) + block_count_.capacity() * sizeof(long) +
+         parts_.capacity() * sizeof(Part) + slots_.bytes_allocated() + pairwise_dp_.capacity() * sizeof(fluid::Vec3);
 }
 
-void MomentumExchange::sort_by_row(const std::vector<Node>& node, parallel::ThreadPool* pool, int parts) {
-  const long n = static_cast<long>(node.size());
-  next_.resize(n);
-  row_of_.resize(n);
-  by_row_.resize(n);
-  slot_node_.resize(n);  // a row has at most as many nodes as particles: its slots fit in its share
-  slot_cell_.resize(n);
-  slot_fluid_.resize(n);
-  slot_gained_.resize(n);
-  nodes_in_row_.assign(rows_, 0);
-  row_start_.assign(rows_ + 1, 0);
-  // At most 1 + n / rows parts, so that the per-part counters (parts x rows) stay within one per
-  // row plus one per particle however many threads a session has and however short its rows.
-  parts = pool ? static_cast<int>(std::clamp<long>(1 + n / std::max(rows_, 1L), 1, parts)) : 1;
-  // Particles [n k / parts, n (k + 1) / parts) are part k's. Each part counts its particles per
-  // row, then places them after those of the parts before it: the order of a serial sort.
-  cursor_.assign(static_cast<std::size_t>(parts) * rows_, 0);
-  auto for_parts = [&](const auto& work) {
-    auto run = [&](long first, long end) {
-      for (long k = first; k < end; ++k) work(&cursor_[k * rows_], n * k / parts, n * (k + 1) / parts);
-    };
-    if (parts == 1) run(0, 1);
-    else pool->parallel_for(parts, parts, run);
-  };
-  for_parts([&](long* count, long first, long end) {
-    for (long p = first; p < end; ++p) {
-      row_of_[p] = node[p][1] + static_cast<long>(ny_) * node[p][2];
-      ++count[row_of_[p]];
+void MomentumExchange::cut_parts(int parts, parallel::ThreadPool* pool) {
+  const long blocks = static_cast<long>(block_count_.size());
+  parts = static_cast<int>(std::clamp<long>(parts, 1, blocks));
+  parts_.resize(parts);
+  parts_used_ = parts;
+  long total = 0;
+  for (long count : block_count_) total += count;
+  long block = 0, seen = 0;
+  for (int k = 0; k < parts; ++k) {
+    Part& part = parts_[k];
+    part.first_cell = static_cast<CellIndex>(std::min(block << block_shift_, cells_));
+    if (k == parts - 1) {
+      block = blocks;
+    } else if (total == 0) {  // nothing counted yet: equal shares of the cells
+      block = blocks * (k + 1) / parts;
+    } else {  // the first block at which the parts so far hold their share
+      const long target = total * (k + 1) / parts;
+      while (block < blocks && seen < target) seen += block_count_[block++];
     }
-  });
-  for (long r = 0; r < rows_; ++r) {
-    long placed = row_start_[r];
-    for (long k = 0; k < parts; ++k) {
-      const long count = cursor_[k * rows_ + r];
-      cursor_[k * rows_ + r] = placed;
-      placed += count;
-    }
-    row_start_[r + 1] = placed;
+    part.end_cell = static_cast<CellIndex>(std::min(block << block_shift_, cells_));
   }
-  for_parts([&](long* cursor, long first, long end) {
-    for (long p = first; p < end; ++p) by_row_[cursor[row_of_[p]]++] = static_cast<int>(p);
-  });
-}
-
-long MomentumExchange::first_row_of_part(long part, int parts) const {
-  if (part >= parts) return rows_;
-  const long particles = row_start_[rows_];
-  const long target = particles * part / parts;
-  // The first row whose particles start at or after the target: row_start_ never decreases.
-  return std::lower_bound(row_start_.begin(), row_start_.begin() + rows_, target) - row_start_.begin();
-}
-
-void MomentumExchange::group_row(long r, const std::vector<Node>& node, const std::vector<long>& cell) {
-  const long first = row_start_[r];
-  long count = 0;
-  for (long k = first; k < row_start_[r + 1]; ++k) {
-    const int p = by_row_[k];
-    const long c = cell[p];
-    if (head_[c] < 0) {
-      slot_node_[first + count] = node[p];
-      slot_cell_[first + count] = c;
-      ++count;
-    }
-    next_[p] = head_[c];
-    head_[c] = p;
+  // Each part's nodes are its marked cells; its slots follow those of the parts before it.
+  for_parts(pool, [&](int k) { mark_cells(parts_[k]); });
+  long slots = 0;
+  for (Part& part : parts_) {
+    part.base = slots;
+    slots += part.count;
   }
-  nodes_in_row_[r] = count;
+  if (slots_.size() < slots) slots_.resize(slots);
 }
 
-void MomentumExchange::exchange_at(long slot, const fluid::DensityMomentum& f, const std::vector<double>& mass,
-                                   const std::vector<fluid::Vec3>& momentum, std::vector<fluid::Vec3>& particle_dp) {
-  const long c = slot_cell_[slot];
-  fluid::Vec3 gained{0, 0, 0};
-  if (rule_ == ExchangeRule::kCommonVelocity) {
-    double total_mass = f.rho;
-    fluid::Vec3 total_momentum = f.momentum;
-    for (int p = head_[c]; p >= 0; p = next_[p]) {
-      total_mass += mass[p];
-      for (int a = 0; a < 3; ++a) total_momentum[a] += momentum[p][a];
-    }
-    const double inverse_mass = 1.0 / total_mass;
-    const fluid::Vec3 common{total_momentum[0] * inverse_mass, total_momentum[1] * inverse_mass,
-                             total_momentum[2] * inverse_mass};
-    for (int p = head_[c]; p >= 0; p = next_[p])
-      for (int a = 0; a < 3; ++a) {
-        particle_dp[p][a] = momentum[p][a] - mass[p] * common[a];
-        gained[a] += particle_dp[p][a];
+void MomentumExchange::mark_cells(Part& part) {
+  const bool counts = parts_used_ > 1;  // for the next cut; one part needs no balance
+  if (counts)
+    std::fill(block_count_.begin() + (part.first_cell >> block_shift_),
+              block_count_.begin() + ((static_cast<long>(part.end_cell) + (1L << block_shift_) - 1) >> block_shift_),
+              0);
+  const CellIndex* __restrict cells = cell_.data();
+  std::uint64_t* __restrict touched = touched_.data();
+  long* __restrict block_count = block_count_.data();
+  const CellIndex first = part.first_cell, end = part.end_cell;
+  const long n = static_cast<long>(cell_.size());
+  for (long p = 0; p < n; ++p) {
+    const CellIndex c = cells[p];
+    if (c < first || c >= end) continue;
+    touched[c >> 6] |= std::uint64_t{1} << (c & 63);
+    if (counts) ++block_count[c >> block_shift_];
+  }
+  long marked = 0;
+  for (long w = first >> 6; w < (static_cast<long>(end) + 63) >> 6; ++w) marked += __builtin_popcountll(touched[w]);
+  part.count = marked;
+}
+
+void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& mass,
+                                  const std::vector<fluid::Vec3>& momentum) {
+  // The marked cells in order, the node of each followed row by row from the part's first cell.
+  const long nx = grid_[0], ny = grid_[1];
+  long row = part.first_cell / nx, row_end = (row + 1) * nx;
+  int y = static_cast<int>(row % ny), z = static_cast<int>(row / ny);
+  long s = part.base;
+  for (long w = part.first_cell >> 6; w < (static_cast<long>(part.end_cell) + 63) >> 6; ++w) {
+    for (std::uint64_t bits = touched_[w]; bits != 0; bits &= bits - 1) {
+      const long c = 64 * w + __builtin_ctzll(bits);
+      while (c >= row_end) {
+        row_end += nx;
+        if (++y == ny) {
+          y = 0;
+          ++z;
+        }
       }
-  } else {
-    const fluid::Vec3 u{f.momentum[0] / f.rho, f.momentum[1] / f.rho, f.momentum[2] / f.rho};
-    for (int p = head_[c]; p >= 0; p = next_[p]) {
-      const double z = 1.0 / (1.0 / f.rho + 1.0 / mass[p]);
+      slot_of_cell_[c] = static_cast<std::uint32_t>(s);
+      slots_.node[s] = {static_cast<int>(c - (row_end - nx)), y, z};
+      slots_.mass[s] = 0;
+      slots_.momentum[s] = {0, 0, 0};
+      ++s;
+    }
+    touched_[w] = 0;
+  }
+  // Each node's particles summed in index order. Raw pointers: through the vectors every store
+  // would make the compiler reload their data.
+  const CellIndex* __restrict cells = cell_.data();
+  const std::uint32_t* __restrict slot_of_cell = slot_of_cell_.data();
+  std::uint32_t* __restrict slot_of_particle = slot_.data();
+  const double* __restrict masses = mass.data();
+  const fluid::Vec3* __restrict momenta = momentum.data();
+  double* __restrict slot_mass = slots_.mass.data();
+  fluid::Vec3* __restrict slot_momentum = slots_.momentum.data();
+  const CellIndex first = part.first_cell, end = part.end_cell;
+  const long n = static_cast<long>(cell_.size());
+  for (long p = 0; p < n; ++p) {
+    const CellIndex c = cells[p];
+    if (c < first || c >= end) continue;
+    const long slot = slot_of_cell[c];
+    slot_of_particle[p] = static_cast<std::uint32_t>(slot);
+    slot_mass[slot] += masses[p];
+    for (int a = 0; a < 3; ++a) slot_momentum[slot][a] += momenta[p][a];
+  }
+}
+
+void MomentumExchange::node_velocities(const Part& part, const std::vector<double>& mass,
+                                       const std::vector<fluid::Vec3>& momentum) {
+  for (long s = part.base; s < part.base + part.count; ++s) {
+    const fluid::DensityMomentum& f = slots_.fluid[s];
+    fluid::Vec3& u = slots_.velocity[s];
+    if (rule_ == ExchangeRule::kCommonVelocity) {
+      const double inverse_mass = 1.0 / (f.rho + slots_.mass[s]);
       for (int a = 0; a < 3; ++a) {
-        particle_dp[p][a] = z * (momentum[p][a] / mass[p] - u[a]);
-        gained[a] += particle_dp[p][a];
+        u[a] = (f.momentum[a] + slots_.momentum[s][a]) * inverse_mass;
+        slots_.gained[s][a] = slots_.momentum[s][a] - slots_.mass[s] * u[a];
       }
+    } else {
+      for (int a = 0; a < 3; ++a) u[a] = f.momentum[a] / f.rho;
+      slots_.gained[s] = {0, 0, 0};
     }
   }
-  head_[c] = -1;  // ready for the next exchange
-  slot_gained_[slot] = gained;
+  if (rule_ == ExchangeRule::kCommonVelocity) return;
+  // Eq. 14 per particle: its dP depends on its own mass, so the node's gain is their sum.
+  for (long p = 0; p < static_cast<long>(cell_.size()); ++p) {
+    const CellIndex c = cell_[p];
+    if (c < part.first_cell || c >= part.end_cell) continue;
+    const long s = slot_of_cell_[c];
+    const double z = 1.0 / (1.0 / slots_.fluid[s].rho + 1.0 / mass[p]);
+    for (int a = 0; a < 3; ++a) {
+      pairwise_dp_[p][a] = z * (momentum[p][a] / mass[p] - slots_.velocity[s][a]);
+      slots_.gained[s][a] += pairwise_dp_[p][a];
+    }
+  }
 }
 
 ExchangedNodes MomentumExchange::exchanged() const {
   ExchangedNodes out;
-  for (long r = 0; r < rows_; ++r)
-    for (long slot = row_start_[r]; slot < row_start_[r] + nodes_in_row_[r]; ++slot) {
-      out.nodes.push_back(slot_node_[slot]);
-      out.gained.push_back(slot_gained_[slot]);
-    }
+  for (int k = 0; k < parts_used_; ++k) {
+    const Part& part = parts_[k];
+    out.nodes.insert(out.nodes.end(), slots_.node.begin() + part.base, slots_.node.begin() + part.base + part.count);
+    out.gained.insert(out.gained.end(), slots_.gained.begin() + part.base,
+                      slots_.gained.begin() + part.base + part.count);
+  }
   return out;
 }
 

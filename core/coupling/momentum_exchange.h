@@ -3,8 +3,22 @@
 // fluid node; at each node the fluid and all the particles there reach one common velocity
 //   u* = (rho u_f + sum_p M_p u_p) / (rho + sum_p M_p),   dP_p = M_p (u_p - u*),
 // which for a lone particle is exactly eq. 14, dP = Z (u_s - u_f) with 1/Z = 1/rho + 1/M.
+// The fluid gains sum_p dP_p = sum_p M_p u_p - (sum_p M_p) u*, worked out per node from the
+// sums, so that no pass over the particles is needed for it.
 // The pairwise rule (eq. 14 applied to each particle against the same fluid state) is kept only
 // to show why it is not used: with several particles on a node it over-corrects and can diverge.
+//
+// An exchange runs in three calls. locate() records each particle's cell. compute() cuts the
+// cells into parts (ranges of about equal particle counts, from the last exchange's counts); each
+// part walks all particles in index order, marks the cells in its range in a bitmap, lists them
+// in cell order (so that the fluid is read, and later written, in the order it is stored), walks
+// the particles again summing those in its range per node, reads its nodes' fluid in one batch and works out each node's
+// velocity u* and what its fluid gains. A node's particles are thus summed in index order
+// whatever the number of parts: the result is the same bit for bit. particle_dp() then gives
+// each particle its dP from its node's u* while the solid steps, and inject() gives the fluid
+// its momentum after the fluid's step. No particle is sorted or moved.
+#include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include "coupling/node_locator.h"
@@ -23,101 +37,134 @@ struct ExchangedNodes {
   long size() const { return static_cast<long>(nodes.size()); }
 };
 
+// A fluid cell's index, x + nx (y + ny z); grids have fewer than 2^32 cells (FluidConfig).
+using CellIndex = std::uint32_t;
+
 class MomentumExchange {
  public:
+  // The cells are counted in at most this many blocks (plus one) to balance the parts: fine
+  // enough to balance, few enough to sum every exchange.
+  static constexpr long kBalanceBlocks = 4096;
+
   // On a grid of nx x ny x nz fluid nodes.
   MomentumExchange(const std::array<int, 3>& grid, ExchangeRule rule);
 
-  // `node[p]`, `cell[p]`, `mass[p]`, `momentum[p]` describe particle p; `fluid` answers
-  // gather_momenta(nodes, count, out) with the pre-collision density and momentum of each node
-  // (FluidLattice's batched call). Fills `particle_dp` (momentum each particle gives) and keeps
-  // what each node's fluid gains for inject().
-  //
-  // The particles are sorted by fluid row (a stable counting sort, in the same parts); then the rows
-  // are independent: with a pool they are cut into `parts` ranges of about equal particle counts
-  // run on it, each row grouping its particles by node (in a per-cell list no other row touches),
-  // reading its nodes' fluid in one batch and exchanging, so that the fluid is read, and later written, a row at a time. Within a
-  // row the nodes come in the order of their first particle, and a node's particles in descending
-  // order: the result is the same bit for bit for any number of parts. `fluid` must then allow
-  // several threads to gather at once (a const read).
+  // Records cell_of(p), the cell of particle p's nearest node, for p in [0, n), in `parts`
+  // ranges on `pool` (cell_of must allow that).
+  template <class CellOf>
+  void locate(long n, const CellOf& cell_of, parallel::ThreadPool* pool = nullptr, int parts = 1);
+  // The exchange of the located particles, `mass[p]` and `momentum[p]` describing particle p;
+  // `fluid` answers gather_momenta(nodes, count, out) with the pre-collision density and momentum
+  // of each node (FluidLattice's batched call; with a pool, from several threads at once).
   template <class Fluid>
-  void compute(const std::vector<Node>& node, const std::vector<long>& cell, const std::vector<double>& mass,
-               const std::vector<fluid::Vec3>& momentum, const Fluid& fluid, std::vector<fluid::Vec3>& particle_dp,
+  void compute(const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum, const Fluid& fluid,
                parallel::ThreadPool* pool = nullptr, int parts = 1);
-  // Gives the fluid the momentum of the last compute() (fluid.add_momenta per row), in the same
+  // The momentum particle p gives its node, given the mass and momentum compute() had for it.
+  fluid::Vec3 particle_dp(long p, const fluid::Vec3& momentum, double mass) const {
+    if (rule_ != ExchangeRule::kCommonVelocity) return pairwise_dp_[p];
+    const fluid::Vec3& u = slots_.velocity[slot_[p]];
+    return {momentum[0] - mass * u[0], momentum[1] - mass * u[1], momentum[2] - mass * u[2]};
+  }
+  // Gives the fluid the momentum of the last compute() (fluid.add_momenta per part), in the same
   // parts: each node's slots are written by no other node. Call after the fluid's step.
   template <class Fluid>
-  void inject(Fluid& fluid, parallel::ThreadPool* pool = nullptr, int parts = 1) const;
+  void inject(Fluid& fluid, parallel::ThreadPool* pool = nullptr) const;
 
-  // The last compute()'s nodes and what their fluid gains, row by row (tests, diagnostics).
+  CellIndex cell(long p) const { return cell_[p]; }
+  // The last compute()'s nodes and what their fluid gains, in cell order (tests, diagnostics).
   ExchangedNodes exchanged() const;
   ExchangeRule rule() const { return rule_; }
   std::size_t bytes_allocated() const;
 
  private:
-  void sort_by_row(const std::vector<Node>& node, parallel::ThreadPool* pool, int parts);
-  // Groups row r's particles by node, and lists its nodes at slots from row_start_[r] on.
-  void group_row(long r, const std::vector<Node>& node, const std::vector<long>& cell);
-  // The exchange at one listed node, its fluid being `f`.
-  void exchange_at(long slot, const fluid::DensityMomentum& f, const std::vector<double>& mass,
-                   const std::vector<fluid::Vec3>& momentum, std::vector<fluid::Vec3>& particle_dp);
-  template <class Rows>
-  void for_rows(parallel::ThreadPool* pool, int parts, const Rows& rows) const;
-  // The first row of part `part` of `parts`, the rows being cut so that each part holds about as
-  // many particles as the others (particles often fill a few rows: a sediment, a dilute layer).
-  long first_row_of_part(long part, int parts) const;
+  // Every listed node, slot by slot (part k's from base[k] on): the node, the total mass and
+  // momentum of its particles, the fluid read there, the velocity its particles are
+  // compared with (u*, or the fluid's u for the pairwise rule), and what its fluid gains.
+  struct Slots {
+    std::vector<Node> node;
+    std::vector<double> mass;
+    std::vector<fluid::Vec3> momentum;
+    std::vector<fluid::DensityMomentum> fluid;
+    std::vector<fluid::Vec3> velocity;
+    std::vector<fluid::Vec3> gained;
+    long size() const { return static_cast<long>(node.size()); }
+    void resize(std::size_t n);
+    std::size_t bytes_allocated() const;
+  };
+  struct Part {
+    CellIndex first_cell = 0, end_cell = 0;  // a whole number of bitmap words, but for the last
+    long base = 0, count = 0;                // its slots
+  };
+  // Cuts [0, cells) into `parts` ranges at block boundaries, each with about as many particles of
+  // the last exchange as the others; marks each part's cells and gives it its slots.
+  void cut_parts(int parts, parallel::ThreadPool* pool);
+  // Marks the cells of the part's particles (and counts them by block for the next cut).
+  void mark_cells(Part& part);
+  // Lists the part's marked nodes in cell order (clearing their marks) and sums the mass and
+  // momentum of their particles.
+  void list_nodes(const Part& part, const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum);
+  // Each listed node's comparison velocity and gain, once its fluid is read.
+  void node_velocities(const Part& part, const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum);
+  // work(k) for every part k, on the pool when there are several.
+  template <class Work>
+  void for_parts(parallel::ThreadPool* pool, const Work& work) const;
 
   ExchangeRule rule_;
-  int ny_;
-  long rows_;
-  std::vector<int> head_;        // per fluid cell: first particle attached there, -1 if none
-  std::vector<int> next_;        // per particle: next particle at the same cell
-  std::vector<long> row_of_;     // per particle: its fluid row, y + ny z
-  std::vector<long> row_start_;  // per row: its first entry in by_row_ (and its first slot)
-  std::vector<int> by_row_;      // the particles, row by row
-  std::vector<long> cursor_;     // per part of the sort and row: a count, then where it places next
-  std::vector<long> nodes_in_row_;  // per row: nodes listed
-  // Per slot (row_start_[r] + k for the k-th node of row r): the node, its cell, what it reads
-  // and what it gains.
-  std::vector<Node> slot_node_;
-  std::vector<long> slot_cell_;
-  std::vector<fluid::DensityMomentum> slot_fluid_;
-  std::vector<fluid::Vec3> slot_gained_;
+  std::array<int, 3> grid_;
+  long cells_;
+  int block_shift_;                      // cells of a counting block: 2^block_shift_, at least a word
+  std::vector<CellIndex> cell_;          // per particle: its node's cell
+  std::vector<std::uint32_t> slot_;      // per particle: its node's slot
+  std::vector<std::uint64_t> touched_;   // per cell a bit: a particle is there (zero between exchanges)
+  std::vector<std::uint32_t> slot_of_cell_;  // per cell: its slot, set for the cells listed
+  std::vector<long> block_count_;        // per block of cells: particles there at the last exchange
+  std::vector<Part> parts_;
+  int parts_used_ = 0;
+  Slots slots_;
+  std::vector<fluid::Vec3> pairwise_dp_;  // the pairwise rule: per particle
 };
 
-template <class Rows>
-void MomentumExchange::for_rows(parallel::ThreadPool* pool, int parts, const Rows& rows) const {
-  if (pool && parts > 1) {
-    pool->parallel_for(parts, parts, [&](long first_part, long end_part) {
-      for (long r = first_row_of_part(first_part, parts); r < first_row_of_part(end_part, parts); ++r) rows(r);
+template <class Work>
+void MomentumExchange::for_parts(parallel::ThreadPool* pool, const Work& work) const {
+  if (pool && parts_used_ > 1) {
+    pool->parallel_for(parts_used_, parts_used_, [&](long first, long end) {
+      for (long k = first; k < end; ++k) work(static_cast<int>(k));
     });
   } else {
-    for (long r = 0; r < rows_; ++r) rows(r);
+    for (int k = 0; k < parts_used_; ++k) work(k);
   }
 }
 
+template <class CellOf>
+void MomentumExchange::locate(long n, const CellOf& cell_of, parallel::ThreadPool* pool, int parts) {
+  cell_.resize(n);
+  const auto run = [&](long first, long end) {
+    for (long p = first; p < end; ++p) cell_[p] = cell_of(p);
+  };
+  if (pool && parts > 1) pool->parallel_for(n, parts, run);
+  else run(0, n);
+}
+
 template <class Fluid>
-void MomentumExchange::compute(const std::vector<Node>& node, const std::vector<long>& cell,
-                               const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
-                               const Fluid& fluid, std::vector<fluid::Vec3>& particle_dp, parallel::ThreadPool* pool,
-                               int parts) {
-  particle_dp.resize(node.size());
-  sort_by_row(node, pool, parts);
-  for_rows(pool, parts, [&](long r) {
-    group_row(r, node, cell);
-    const long first = row_start_[r], count = nodes_in_row_[r];
-    if (count == 0) return;
-    fluid.gather_momenta(slot_node_.data() + first, count, slot_fluid_.data() + first);
-    for (long slot = first; slot < first + count; ++slot)
-      exchange_at(slot, slot_fluid_[slot], mass, momentum, particle_dp);
+void MomentumExchange::compute(const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
+                               const Fluid& fluid, parallel::ThreadPool* pool, int parts) {
+  cut_parts(pool ? parts : 1, pool);
+  slot_.resize(cell_.size());
+  if (rule_ == ExchangeRule::kPairwise) pairwise_dp_.resize(cell_.size());
+  for_parts(pool, [&](int k) {
+    const Part& part = parts_[k];
+    list_nodes(part, mass, momentum);
+    if (part.count == 0) return;
+    fluid.gather_momenta(slots_.node.data() + part.base, part.count, slots_.fluid.data() + part.base);
+    node_velocities(part, mass, momentum);
   });
 }
 
 template <class Fluid>
-void MomentumExchange::inject(Fluid& fluid, parallel::ThreadPool* pool, int parts) const {
-  for_rows(pool, parts, [&](long r) {
-    if (nodes_in_row_[r] > 0)
-      fluid.add_momenta(slot_node_.data() + row_start_[r], slot_gained_.data() + row_start_[r], nodes_in_row_[r]);
+void MomentumExchange::inject(Fluid& fluid, parallel::ThreadPool* pool) const {
+  for_parts(pool, [&](int k) {
+    const Part& part = parts_[k];
+    if (part.count > 0) fluid.add_momenta(slots_.node.data() + part.base, slots_.gained.data() + part.base, part.count);
   });
 }
 

@@ -7,6 +7,7 @@
 // each coordinate is first clamped to +-2^40, far beyond any grid, so the casts to long below are
 // defined; +-inf and huge values then behave as positions just outside the box (the first or last
 // node of a walled axis, some node of a periodic one), and a NaN coordinate is read as 0.
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -25,28 +26,34 @@ class NodeLocator {
                   c.sides[fluid::kYLow].kind == fluid::WallKind::kPeriodic,
                   c.sides[fluid::kZLow].kind == fluid::WallKind::kPeriodic} {}
 
-  Node nearest(const fluid::Vec3& position) const {
+  // Always inlined: called per particle per step, and a call costs as much as the search.
+  [[gnu::always_inline]] Node nearest(const fluid::Vec3& position) const {
     if constexpr (!L::hexagonal) {
       Node node{0, 0, 0};
       for (int a = 0; a < L::D; ++a) node[a] = fit(a, nearest_integer(finite(position[a])));
       return node;
     } else {
       const double r[2] = {finite(position[0]), finite(position[1])};
-      const long below = static_cast<long>(std::floor(r[1] / L::row_spacing));
-      Node best{0, 0, 0};
-      double best_d2 = INFINITY;
-      for (long row = below; row <= below + 1; ++row) {
+      // A product, not a quotient: a row off by one at a boundary still leaves the nearest row
+      // among the two tried (the nearest node lies in a row within h/2 of the position).
+      const long below = static_cast<long>(std::floor(r[1] * (1.0 / L::row_spacing)));
+      // The nearest node of each of the two rows, then the nearer of the two (the lower one on a
+      // tie), chosen without a branch: which row wins is as good as random.
+      const auto in_row = [&](long row, long& x, double& d2) {
         const long y = periodic_[1] ? row : fit(1, row);  // a clamped row is measured where it is
         const double shift = 0.5 * static_cast<double>(y & 1);  // ny even: parity survives wrapping
-        const long x = nearest_integer(r[0] - shift);
+        x = nearest_integer(r[0] - shift);
         const double dx = static_cast<double>(x) + shift - r[0];
         const double dy = static_cast<double>(y) * L::row_spacing - r[1];
-        if (dx * dx + dy * dy < best_d2) {
-          best_d2 = dx * dx + dy * dy;
-          best = {fit(0, x), fit(1, y), 0};
-        }
-      }
-      return best;
+        d2 = dx * dx + dy * dy;
+        return y;
+      };
+      long x_low, x_high;
+      double d2_low, d2_high;
+      const long y_low = in_row(below, x_low, d2_low), y_high = in_row(below + 1, x_high, d2_high);
+      // A mask rather than ?: (which GCC compiles to a branch here).
+      const long high = -static_cast<long>(d2_high < d2_low);
+      return {fit(0, x_low ^ ((x_low ^ x_high) & high)), fit(1, y_low ^ ((y_low ^ y_high) & high)), 0};
     }
   }
 
@@ -57,15 +64,19 @@ class NodeLocator {
  private:
   // 2^40 leaves the rounding exact (a double's step there is 2^-12) and i % n free of overflow.
   static constexpr double kLimit = 1099511627776.0;
-  // Written so that NaN, for which every comparison is false, becomes 0.
-  static double finite(double v) { return v >= -kLimit ? (v <= kLimit ? v : kLimit) : (v < 0 ? -kLimit : 0.0); }
+  // NaN, which equals nothing, becomes 0. Written with min, max and a select so that it compiles
+  // without branches, as does the rest below for walled axes (a locate per particle per step).
+  static double finite(double v) {
+    const double clamped = std::min(std::max(v, -kLimit), kLimit);
+    return v == v ? clamped : 0.0;
+  }
   // Halves round up; unlike std::lround this inlines (it was a library call per particle).
   static long nearest_integer(double v) { return static_cast<long>(std::floor(v + 0.5)); }
   int fit(int axis, long i) const {
     const long n = n_[axis];
+    if (!periodic_[axis]) return static_cast<int>(std::clamp(i, 0L, n - 1));
     if (i >= 0 && i < n) return static_cast<int>(i);  // inside the box: no division
-    if (periodic_[axis]) return static_cast<int>(((i % n) + n) % n);
-    return static_cast<int>(i < 0 ? 0 : n - 1);
+    return static_cast<int>(((i % n) + n) % n);
   }
   std::array<int, 3> n_;
   std::array<bool, 3> periodic_;

@@ -33,8 +33,10 @@ namespace {
 
 bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
-// The cell count above which a single fluid would not fit in memory anyway.
-constexpr long long kMaxCells = 1LL << 34;
+// The most cells a grid may have: a cell index then fits 32 bits (the coupling keeps one per
+// particle, coupling::CellIndex), and a fluid this large (120 GB in D2Q7 float) is beyond memory
+// anyway.
+constexpr long long kMaxCells = (1LL << 32) - 1;
 
 }  // namespace
 

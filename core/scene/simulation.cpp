@@ -54,9 +54,7 @@ class SimulationImpl final : public Simulation {
     if (fluid_) {
       exchange_ = std::make_unique<coupling::MomentumExchange>(
           std::array<int, 3>{scene.fluid.nx, scene.fluid.ny, scene.fluid.nz}, scene.exchange);
-      node_.resize(n);
-      cell_.resize(n);
-      dp_.resize(n);
+      if (rotating_) node_.resize(n);
     }
     if (scene.contact.enabled) {
       walls_.restitution = scene.contact.restitution;
@@ -71,15 +69,17 @@ class SimulationImpl final : public Simulation {
     const int parts = scene_.fluid.threads;
     clock_.start();
     if (exchange_) {
-      pool_->parallel_for(solid_->particle_count(), parts, [&](long first, long end) {
-        for (long p = first; p < end; ++p) {
-          node_[p] = locator_.nearest(solid_->position(static_cast<int>(p)));
-          cell_[p] = locator_.cell(node_[p]);
-        }
-      });
+      exchange_->locate(
+          solid_->particle_count(),
+          [&](long p) {
+            const coupling::Node node = locator_.nearest(solid_->position(static_cast<int>(p)));
+            if (rotating_) node_[p] = node;  // for momenta_at_nodes()
+            return static_cast<coupling::CellIndex>(locator_.cell(node));
+          },
+          pool_.get(), parts);
       clock_.lap(Stage::kLocate);
-      exchange_->compute(node_, cell_, solid_->masses(), rotating_ ? momenta_at_nodes() : solid_->momenta(), *fluid_,
-                         dp_, pool_.get(), parts);
+      exchange_->compute(solid_->masses(), rotating_ ? momenta_at_nodes() : solid_->momenta(), *fluid_, pool_.get(),
+                         parts);
       clock_.lap(Stage::kExchange);
     }
     if (fluid_) {
@@ -88,7 +88,7 @@ class SimulationImpl final : public Simulation {
       // Each node's populations sit in slots no other node writes (the in-place rules are
       // involutions, FluidLattice::check_in_place_slots), so the nodes take their momentum in parts.
       if (exchange_) {
-        exchange_->inject(*fluid_, pool_.get(), parts);
+        exchange_->inject(*fluid_, pool_.get());
         clock_.lap(Stage::kInject);
       }
     }
@@ -97,8 +97,11 @@ class SimulationImpl final : public Simulation {
       // every other force) are summed as the solid's step reaches it.
       const auto force = [&](int p) {
         Vec3 f = loads_ ? solid_->body(solid_->body_of(p)).load : Vec3{0, 0, 0};
-        if (exchange_)
-          for (int a = 0; a < 3; ++a) f[a] -= dp_[p][a];
+        if (exchange_) {
+          const Vec3 dp = exchange_->particle_dp(p, rotating_ ? momenta_at_nodes_[p] : solid_->momentum(p),
+                                                 solid_->mass(p));
+          for (int a = 0; a < 3; ++a) f[a] -= dp[a];
+        }
         if (walls_.any()) solid::add_wall_contact(walls_, *solid_, p, f);
         return f;
       };
@@ -170,7 +173,6 @@ class SimulationImpl final : public Simulation {
     std::size_t bytes = solid_->bytes_allocated();
     if (exchange_)
       bytes += exchange_->bytes_allocated() + node_.capacity() * sizeof(coupling::Node) +
-               cell_.capacity() * sizeof(long) + dp_.capacity() * sizeof(Vec3) +
                momenta_at_nodes_.capacity() * sizeof(Vec3);
     return bytes;
   }
@@ -286,10 +288,7 @@ class SimulationImpl final : public Simulation {
   bool rotating_ = false;                // some body's springs turn with it
   std::vector<Vec3> momenta_at_nodes_;   // momenta_at_nodes()' answer, kept between steps
   long steps_ = 0;
-  // Per-particle scratch, reused every step.
-  std::vector<coupling::Node> node_;
-  std::vector<long> cell_;
-  std::vector<Vec3> dp_;
+  std::vector<coupling::Node> node_;  // rotating scenes: each particle's node, from the last locate
   StageClock clock_;
 };
 

@@ -1,5 +1,6 @@
 #include "server/session/footprint.h"
 
+#include "coupling/momentum_exchange.h"
 #include "server/session/session.h"
 
 #include <algorithm>
@@ -52,15 +53,16 @@ long long particles_of(const v1::Body& body, int dimension) {
   }
 }
 
-// Bytes per particle in SolidSystem and, with a fluid, in the exchange (scene/simulation.cpp):
-// body index 4, label 12, position 24, mass 8, momentum 24, per link a neighbour index 4
-// and incoming and outgoing vectors 48; exchange: node 12, cell 8, momentum 24, chain link 4, a
-// node record of 80 and a row-sort counter 8, and with rotating bodies the momenta compared at the
-// nodes 24. Doubled: arrays grown by push_back may hold up to twice their size.
+// Bytes per particle in SolidSystem and, with a fluid, in the exchange (scene/simulation.cpp,
+// coupling/momentum_exchange.h): body index 4, label 12, position 24, mass 8, momentum 24, per
+// link a neighbour index 4 and incoming and outgoing vectors 48; exchange: cell 4, slot 4, a node
+// record of 124 (at most one node per particle), the pairwise rule's dP 24, and with rotating
+// bodies each particle's node 12 and the momenta compared at the nodes 24. Doubled: arrays grown
+// by push_back or resize may hold up to twice their size.
 long long bytes_per_particle(int dimension, bool with_fluid, bool rotating) {
   const int links = 2 * dimension;
   const long long solid = 4 + 12 + 24 + 8 + 24 + links * (4 + 48);
-  const long long exchange = with_fluid ? 12 + 8 + 24 + 4 + 80 + 8 + (rotating ? 24 : 0) : 0;
+  const long long exchange = with_fluid ? 4 + 4 + 124 + 24 + (rotating ? 12 + 24 : 0) : 0;
   return 2 * (solid + exchange);
 }
 
@@ -101,15 +103,13 @@ Footprint estimate_footprint(const v1::Scenario& scenario) {
   const int buffers = scenario.fluid().streaming() == v1::STREAMING_TWO_BUFFER ? 2 : 1;
   const int value_bytes = scenario.precision() == v1::PRECISION_FLOAT ? 4 : 8;
   const long long populations = saturating_product(buffers * q, population_array_bytes(f.cells, value_bytes));
-  // The exchange's per-cell list heads (4 B) and per-row starts, node counts and sort counters
-  // (24 B a row of nx nodes).
-  const long long rows = std::max(0, d.ny()) * nz;
-  const long long exchange_heads =
-      f.particles > 0 ? saturating_sum(saturating_product(f.cells, 4), saturating_product(rows, 24)) : 0;
+  // The exchange's per-cell slot index (4 B) and mark (1 bit), and its balancing counts.
+  constexpr long long kBalanceBytes = (coupling::MomentumExchange::kBalanceBlocks + 1) * sizeof(long);
+  const long long exchange_cells = f.particles > 0 ? saturating_sum(saturating_product(f.cells, 5), kBalanceBytes) : 0;
   const bool rotating = std::any_of(scenario.bodies().begin(), scenario.bodies().end(),
                                     [](const v1::Body& body) { return body.rotation(); });
   const long long solid = saturating_product(f.particles, bytes_per_particle(dimension, with_fluid, rotating));
-  f.resident_bytes = saturating_sum(saturating_sum(populations, exchange_heads), solid);
+  f.resident_bytes = saturating_sum(saturating_sum(populations, exchange_cells), solid);
 
   // A save copies the populations as doubles and the solid's positions, links and momenta; field
   // reads copy density and velocity (4 doubles a node), Session::kFieldSnapshots copies at most.

@@ -124,8 +124,9 @@ TEST(MomentumExchange, LoneParticleAndItsNodeReachOneVelocity) {
   const fluid::Moments fluid_state{1.07, {0.01, -0.02, 0.003}};
   const double mass = 1.5;
   const Vec3 psi{0.09, 0.012, -0.03};
-  std::vector<Vec3> dp;
-  exchange.compute({{1, 0, 0}}, {1}, {mass}, {psi}, UniformFluid{fluid_state}, dp);
+  exchange.locate(1, [](long) { return CellIndex{1}; });
+  exchange.compute({mass}, {psi}, UniformFluid{fluid_state});
+  const std::vector<Vec3> dp{exchange.particle_dp(0, psi, mass)};
   const auto nodes = exchange.exchanged();
   ASSERT_EQ(nodes.size(), 1);
   const double z = 1.0 / (1.0 / fluid_state.rho + 1.0 / mass);
@@ -146,17 +147,18 @@ TEST(MomentumExchange, SeveralParticlesOnOneNodeShareOneVelocity) {
   const fluid::Moments fluid_state{1.0, {0, 0, 0}};
   const std::vector<double> mass{2, 2, 2, 2};
   const std::vector<Vec3> psi{{0.2, 0, 0}, {0.2, 0, 0}, {0.2, 0, 0}, {0.2, 0, 0}};  // u_s = 0.1
-  const std::vector<Node> nodes(4, Node{0, 0, 0});
-  const std::vector<long> cells(4, 0);
-  std::vector<Vec3> dp;
+  const auto on_one_node = [](long) { return CellIndex{0}; };
   MomentumExchange common({1, 1, 1}, ExchangeRule::kCommonVelocity);
-  common.compute(nodes, cells, mass, psi, UniformFluid{fluid_state}, dp);
+  common.locate(4, on_one_node);
+  common.compute(mass, psi, UniformFluid{fluid_state});
   const double gained = common.exchanged().gained[0][0];
   const double u_star = 0.8 / 9.0;
   EXPECT_NEAR(gained / fluid_state.rho, u_star, 1e-16);
-  for (int p = 0; p < 4; ++p) EXPECT_NEAR((psi[p][0] - dp[p][0]) / mass[p], u_star, 1e-16);
+  for (int p = 0; p < 4; ++p)
+    EXPECT_NEAR((psi[p][0] - common.particle_dp(p, psi[p], mass[p])[0]) / mass[p], u_star, 1e-16);
   MomentumExchange pairwise({1, 1, 1}, ExchangeRule::kPairwise);
-  pairwise.compute(nodes, cells, mass, psi, UniformFluid{fluid_state}, dp);
+  pairwise.locate(4, on_one_node);
+  pairwise.compute(mass, psi, UniformFluid{fluid_state});
   const double overshoot = pairwise.exchanged().gained[0][0];
   report("pairwise fluid velocity / particle velocity before exchange", overshoot / 0.1, 1.0);
   EXPECT_GT(overshoot / fluid_state.rho, 0.1);  // the fluid ends faster than the particles were
