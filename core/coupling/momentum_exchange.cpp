@@ -14,13 +14,11 @@ MomentumExchange::MomentumExchange(const std::array<int, 3>& grid, ExchangeRule 
     : rule_(rule),
       grid_(grid),
       cells_(static_cast<long>(grid[0]) * grid[1] * grid[2]),
-      rows_(static_cast<long>(grid[1]) * grid[2]),
       block_shift_(6),
       touched_(static_cast<std::size_t>((cells_ + 63) / 64), 0),
       slot_of_cell_(static_cast<std::size_t>(cells_), 0) {
   while ((cells_ >> block_shift_) > kBalanceBlocks) ++block_shift_;
   block_count_.assign(static_cast<std::size_t>((cells_ >> block_shift_) + 1), 0);
-  row_first_slot_.assign(static_cast<std::size_t>(rows_ + 1), 0);
 }
 
 void MomentumExchange::Slots::resize(std::size_t n) {
@@ -40,8 +38,7 @@ std::size_t MomentumExchange::Slots::bytes_allocated() const {
 
 std::size_t MomentumExchange::bytes_allocated() const {
   return (cell_.capacity() + slot_.capacity()) * sizeof(std::uint32_t) + touched_.capacity() * sizeof(std::uint64_t) +
-         slot_of_cell_.capacity() * sizeof(std::uint32_t) +
-         (block_count_.capacity() + row_first_slot_.capacity()) * sizeof(long) +
+         slot_of_cell_.capacity() * sizeof(std::uint32_t) + block_count_.capacity() * sizeof(long) +
          parts_.capacity() * sizeof(Part) + slots_.bytes_allocated() + pairwise_dp_.capacity() * sizeof(fluid::Vec3);
 }
 
@@ -100,12 +97,10 @@ void MomentumExchange::mark_cells(Part& part) {
 
 void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& mass,
                                   const std::vector<fluid::Vec3>& momentum) {
-  // The marked cells in order, the node of each followed row by row from the part's first cell;
-  // each row that starts in the part gets the first slot at or after its start.
+  // The marked cells in order, the node of each followed row by row from the part's first cell.
   const long nx = grid_[0], ny = grid_[1];
   long row = part.first_cell / nx, row_end = (row + 1) * nx;
   int y = static_cast<int>(row % ny), z = static_cast<int>(row / ny);
-  long next_row = (part.first_cell + nx - 1) / nx;  // the first row starting in the part
   long s = part.base;
   for (long w = part.first_cell >> 6; w < (static_cast<long>(part.end_cell) + 63) >> 6; ++w) {
     for (std::uint64_t bits = touched_[w]; bits != 0; bits &= bits - 1) {
@@ -117,7 +112,6 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
           ++z;
         }
       }
-      for (; next_row * nx <= c; ++next_row) row_first_slot_[next_row] = s;
       slot_of_cell_[c] = static_cast<std::uint32_t>(s);
       slots_.node[s] = {static_cast<int>(c - (row_end - nx)), y, z};
       slots_.mass[s] = 0;
@@ -126,7 +120,6 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
     }
     touched_[w] = 0;
   }
-  for (; next_row * nx < part.end_cell; ++next_row) row_first_slot_[next_row] = s;
   // Each node's particles summed in index order. Raw pointers: through the vectors every store
   // would make the compiler reload their data.
   const CellIndex* __restrict cells = cell_.data();
@@ -148,8 +141,9 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   }
 }
 
-void MomentumExchange::node_velocities(long first, long end) {
-  for (long s = first; s < end; ++s) {
+void MomentumExchange::node_velocities(const Part& part, const std::vector<double>& mass,
+                                       const std::vector<fluid::Vec3>& momentum) {
+  for (long s = part.base; s < part.base + part.count; ++s) {
     const fluid::DensityMomentum& f = slots_.fluid[s];
     fluid::Vec3& u = slots_.velocity[s];
     if (rule_ == ExchangeRule::kCommonVelocity) {
@@ -163,15 +157,12 @@ void MomentumExchange::node_velocities(long first, long end) {
       slots_.gained[s] = {0, 0, 0};
     }
   }
-}
-
-void MomentumExchange::pairwise_dp(const Part& part, const std::vector<double>& mass,
-                                   const std::vector<fluid::Vec3>& momentum) {
+  if (rule_ == ExchangeRule::kCommonVelocity) return;
   // Eq. 14 per particle: its dP depends on its own mass, so the node's gain is their sum.
   for (long p = 0; p < static_cast<long>(cell_.size()); ++p) {
     const CellIndex c = cell_[p];
     if (c < part.first_cell || c >= part.end_cell) continue;
-    const long s = slot_[p];
+    const long s = slot_of_cell_[c];
     const double z = 1.0 / (1.0 / slots_.fluid[s].rho + 1.0 / mass[p]);
     for (int a = 0; a < 3; ++a) {
       pairwise_dp_[p][a] = z * (momentum[p][a] / mass[p] - slots_.velocity[s][a]);

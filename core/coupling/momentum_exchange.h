@@ -8,17 +8,15 @@
 // The pairwise rule (eq. 14 applied to each particle against the same fluid state) is kept only
 // to show why it is not used: with several particles on a node it over-corrects and can diverge.
 //
-// An exchange runs in three calls. locate() records each particle's cell. prepare() cuts the
+// An exchange runs in three calls. locate() records each particle's cell. compute() cuts the
 // cells into parts (ranges of about equal particle counts, from the last exchange's counts); each
 // part walks all particles in index order, marks the cells in its range in a bitmap, lists them
-// in cell order, and walks the particles again summing those in its range per node. A node's
-// particles are thus summed in index order whatever the number of parts: the result is the same
-// bit for bit. Then, inside the fluid's step (fluid::RowHooks, rows in cell order), just before
-// the step updates a range of rows exchange_rows() reads the fluid of the nodes listed there and
-// works out their u* and gain, and just after inject_rows() gives them their momentum, while
-// those populations are in cache. particle_dp() then gives each particle its dP from its node's
-// u* as the solid steps. No particle is sorted or moved. compute() and inject() do the same
-// outside a step.
+// in cell order (so that the fluid is read, and later written, in the order it is stored), walks
+// the particles again summing those in its range per node, reads its nodes' fluid in one batch and works out each node's
+// velocity u* and what its fluid gains. A node's particles are thus summed in index order
+// whatever the number of parts: the result is the same bit for bit. particle_dp() then gives
+// each particle its dP from its node's u* while the solid steps, and inject() gives the fluid
+// its momentum after the fluid's step. No particle is sorted or moved.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -55,37 +53,25 @@ class MomentumExchange {
   // ranges on `pool` (cell_of must allow that).
   template <class CellOf>
   void locate(long n, const CellOf& cell_of, parallel::ThreadPool* pool = nullptr, int parts = 1);
-  // Lists the located particles' nodes and sums their mass and momentum, `mass[p]` and
-  // `momentum[p]` describing particle p. `fluid` answers gather_momenta(nodes, count, out) with
-  // the pre-collision density and momentum of each node (FluidLattice's batched call; with a pool,
-  // from several threads at once): the pairwise rule reads it here, for every dP at once.
-  template <class Fluid>
-  void prepare(const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum, const Fluid& fluid,
-               parallel::ThreadPool* pool = nullptr, int parts = 1);
-  // The common-velocity rule at the listed nodes of rows [first_row, end_row) (y + ny z): reads
-  // their fluid, works out u* and what the fluid gains. Nothing for the pairwise rule.
-  template <class Fluid>
-  void exchange_rows(const Fluid& fluid, long first_row, long end_row);
-  // Gives the fluid of the listed nodes of those rows what they gain (fluid.add_momenta).
-  template <class Fluid>
-  void inject_rows(Fluid& fluid, long first_row, long end_row) const;
-  // prepare() and exchange_rows() over all rows, outside a fluid step.
+  // The exchange of the located particles, `mass[p]` and `momentum[p]` describing particle p;
+  // `fluid` answers gather_momenta(nodes, count, out) with the pre-collision density and momentum
+  // of each node (FluidLattice's batched call; with a pool, from several threads at once).
   template <class Fluid>
   void compute(const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum, const Fluid& fluid,
                parallel::ThreadPool* pool = nullptr, int parts = 1);
-  // The momentum particle p gives its node, given the mass and momentum prepare() had for it
-  // (once its node's exchange_rows() has run).
+  // The momentum particle p gives its node, given the mass and momentum compute() had for it.
   fluid::Vec3 particle_dp(long p, const fluid::Vec3& momentum, double mass) const {
     if (rule_ != ExchangeRule::kCommonVelocity) return pairwise_dp_[p];
     const fluid::Vec3& u = slots_.velocity[slot_[p]];
     return {momentum[0] - mass * u[0], momentum[1] - mass * u[1], momentum[2] - mass * u[2]};
   }
-  // inject_rows() over all rows, in the parts of prepare(): each node's slots are written by no
-  // other node. Call after the fluid's step.
+  // Gives the fluid the momentum of the last compute() (fluid.add_momenta per part), in the same
+  // parts: each node's slots are written by no other node. Call after the fluid's step.
   template <class Fluid>
   void inject(Fluid& fluid, parallel::ThreadPool* pool = nullptr) const;
 
-  // The last exchange's nodes and what their fluid gains, in cell order (tests, diagnostics).
+  CellIndex cell(long p) const { return cell_[p]; }
+  // The last compute()'s nodes and what their fluid gains, in cell order (tests, diagnostics).
   ExchangedNodes exchanged() const;
   ExchangeRule rule() const { return rule_; }
   std::size_t bytes_allocated() const;
@@ -114,13 +100,11 @@ class MomentumExchange {
   void cut_parts(int parts, parallel::ThreadPool* pool);
   // Marks the cells of the part's particles (and counts them by block for the next cut).
   void mark_cells(Part& part);
-  // Lists the part's marked nodes in cell order (clearing their marks), with the first slot of
-  // each row that starts in the part, and sums the mass and momentum of their particles.
+  // Lists the part's marked nodes in cell order (clearing their marks) and sums the mass and
+  // momentum of their particles.
   void list_nodes(const Part& part, const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum);
-  // The comparison velocity and gain of slots [first, end), once their fluid is read.
-  void node_velocities(long first, long end);
-  // The pairwise rule: each of the part's particles' dP, summed into its node's gain.
-  void pairwise_dp(const Part& part, const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum);
+  // Each listed node's comparison velocity and gain, once its fluid is read.
+  void node_velocities(const Part& part, const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum);
   // work(k) for every part k, on the pool when there are several.
   template <class Work>
   void for_parts(parallel::ThreadPool* pool, const Work& work) const;
@@ -128,14 +112,12 @@ class MomentumExchange {
   ExchangeRule rule_;
   std::array<int, 3> grid_;
   long cells_;
-  long rows_;
   int block_shift_;                      // cells of a counting block: 2^block_shift_, at least a word
   std::vector<CellIndex> cell_;          // per particle: its node's cell
   std::vector<std::uint32_t> slot_;      // per particle: its node's slot
   std::vector<std::uint64_t> touched_;   // per cell a bit: a particle is there (zero between exchanges)
   std::vector<std::uint32_t> slot_of_cell_;  // per cell: its slot, set for the cells listed
   std::vector<long> block_count_;        // per block of cells: particles there at the last exchange
-  std::vector<long> row_first_slot_;     // per row and one more: its first slot
   std::vector<Part> parts_;
   int parts_used_ = 0;
   Slots slots_;
@@ -164,7 +146,7 @@ void MomentumExchange::locate(long n, const CellOf& cell_of, parallel::ThreadPoo
 }
 
 template <class Fluid>
-void MomentumExchange::prepare(const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
+void MomentumExchange::compute(const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
                                const Fluid& fluid, parallel::ThreadPool* pool, int parts) {
   cut_parts(pool ? parts : 1, pool);
   slot_.resize(cell_.size());
@@ -172,34 +154,10 @@ void MomentumExchange::prepare(const std::vector<double>& mass, const std::vecto
   for_parts(pool, [&](int k) {
     const Part& part = parts_[k];
     list_nodes(part, mass, momentum);
-    if (rule_ != ExchangeRule::kPairwise || part.count == 0) return;
+    if (part.count == 0) return;
     fluid.gather_momenta(slots_.node.data() + part.base, part.count, slots_.fluid.data() + part.base);
-    node_velocities(part.base, part.base + part.count);
-    pairwise_dp(part, mass, momentum);
+    node_velocities(part, mass, momentum);
   });
-  row_first_slot_[rows_] = parts_[parts_used_ - 1].base + parts_[parts_used_ - 1].count;
-}
-
-template <class Fluid>
-void MomentumExchange::exchange_rows(const Fluid& fluid, long first_row, long end_row) {
-  if (rule_ != ExchangeRule::kCommonVelocity) return;
-  const long first = row_first_slot_[first_row], end = row_first_slot_[end_row];
-  if (first == end) return;
-  fluid.gather_momenta(slots_.node.data() + first, end - first, slots_.fluid.data() + first);
-  node_velocities(first, end);
-}
-
-template <class Fluid>
-void MomentumExchange::inject_rows(Fluid& fluid, long first_row, long end_row) const {
-  const long first = row_first_slot_[first_row], end = row_first_slot_[end_row];
-  if (first < end) fluid.add_momenta(slots_.node.data() + first, slots_.gained.data() + first, end - first);
-}
-
-template <class Fluid>
-void MomentumExchange::compute(const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
-                               const Fluid& fluid, parallel::ThreadPool* pool, int parts) {
-  prepare(mass, momentum, fluid, pool, parts);
-  exchange_rows(fluid, 0, rows_);
 }
 
 template <class Fluid>

@@ -1,6 +1,5 @@
 #include "fluid/fluid_lattice.h"
 
-#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -179,26 +178,13 @@ void FluidLattice<L, T>::initialize_uniform(double density, const Vec3& velocity
 
 template <class L, class T>
 template <class Collision>
-void FluidLattice<L, T>::launch(RowHooks* hooks) {
+void FluidLattice<L, T>::launch() {
   const typename Collision::Rates rates = Collision::rates(config_);
   const T rho0 = static_cast<T>(config_.rho0);
   const long rows = static_cast<long>(config_.ny) * config_.nz;
   const int nx = config_.nx;
   const long stride = storage_.stride();
   const auto& plans = plans_;
-  // With hooks, each part goes through its rows in chunks of about kChunkCells cells: hooks
-  // before, kernel, hooks after, so that what the hooks read and write stays in cache.
-  constexpr long kChunkCells = 4096;
-  const long chunk = std::max(1L, kChunkCells / nx);
-  const auto in_chunks = [&](long begin, long end, const auto& kernel) {
-    if (!hooks) return kernel(begin, end);
-    for (long first = begin; first < end; first += chunk) {
-      const long last = std::min(end, first + chunk);
-      hooks->before_rows(first, last);
-      kernel(first, last);
-      hooks->after_rows(first, last);
-    }
-  };
   // One kernel per (scheme, phase, force) combination; each of config_.threads row ranges goes
   // to one thread of the pool.
   auto run_kernel = [&]<bool kForce>(std::bool_constant<kForce>) {
@@ -206,43 +192,35 @@ void FluidLattice<L, T>::launch(RowHooks* hooks) {
       const T* src = storage_.buffer(current_);
       T* dst = storage_.buffer(current_ ^ 1);
       pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
-        in_chunks(begin, end, [&](long first, long last) {
-          stream_collide_rows<L, T, Collision, kForce>(plans, src, dst, stride, nx, first, last, rates, rho0);
-        });
+        stream_collide_rows<L, T, Collision, kForce>(plans, src, dst, stride, nx, begin, end, rates, rho0);
       });
     } else if (pulled_) {
       T* f = storage_.buffer(0);
       pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
-        in_chunks(begin, end, [&](long first, long last) {
-          stream_collide_in_place_rows<L, T, Collision, kForce>(plans, f, stride, nx, first, last, rates, rho0);
-        });
+        stream_collide_in_place_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
       });
     } else {
       T* f = storage_.buffer(0);
       pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
-        in_chunks(begin, end, [&](long first, long last) {
-          collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, first, last, rates, rho0);
-        });
+        collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
       });
     }
   };
-  updating_ = true;
   if (has_force_) {
     run_kernel(std::true_type{});
   } else {
     run_kernel(std::false_type{});
   }
-  updating_ = false;
 }
 
 template <class L, class T>
-void FluidLattice<L, T>::step(RowHooks* hooks) {
+void FluidLattice<L, T>::step() {
   // The collision is chosen here, once per step: each policy gets its own kernels, so BGK runs
   // exactly the code it ran before the other operators existed.
   switch (config_.collision) {
-    case CollisionModel::kBgk: launch<BgkCollision<L, T>>(hooks); break;
-    case CollisionModel::kTrt: launch<TrtCollision<L, T>>(hooks); break;
-    case CollisionModel::kRegularized: launch<RegularizedCollision<L, T>>(hooks); break;
+    case CollisionModel::kBgk: launch<BgkCollision<L, T>>(); break;
+    case CollisionModel::kTrt: launch<TrtCollision<L, T>>(); break;
+    case CollisionModel::kRegularized: launch<RegularizedCollision<L, T>>(); break;
   }
   if (in_place()) {
     pulled_ = !pulled_;
@@ -269,7 +247,7 @@ typename FluidLattice<L, T>::Slot FluidLattice<L, T>::slot(int i, int x, int y, 
 }
 
 template <class L, class T>
-std::array<long, L::Q> FluidLattice<L, T>::injection_slots(const RowPlan<T, L::Q>& plan, int part, bool pulled) const {
+std::array<long, L::Q> FluidLattice<L, T>::injection_slots(const RowPlan<T, L::Q>& plan, int part) const {
   const long stride = storage_.stride();
   constexpr auto opp = lattice::opposite_table<L>();
   std::array<long, Q> offset;
@@ -279,7 +257,7 @@ std::array<long, L::Q> FluidLattice<L, T>::injection_slots(const RowPlan<T, L::Q
     // odd one wrote it into the slot it had read population opp(i) from.
     if (!in_place()) {
       offset[i] = i * stride;
-    } else if (pulled) {
+    } else if (pulled_) {
       offset[i] = opp[i] * stride;
     } else {
       const auto& s = plan.sources[part][opp[i]];
@@ -297,18 +275,15 @@ void FluidLattice<L, T>::add_momentum(int x, int y, int z, const Vec3& dp) {
 
 template <class L, class T>
 void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const Vec3* dp, long count) {
-  if (!stepped_ && !updating_)
-    throw std::logic_error("add_momentum: no step has produced post-collision populations yet");
-  // Inside a step (a row hook), the layout it is producing: the step flips these when it ends.
-  const bool pulled = updating_ ? !pulled_ : pulled_;
-  T* f = storage_.buffer(in_place() ? 0 : (updating_ ? current_ ^ 1 : current_));
+  if (!stepped_) throw std::logic_error("add_momentum: no step has produced post-collision populations yet");
+  T* f = storage_.buffer(in_place() ? 0 : current_);
   long row_part = -1;  // of the slots below
   std::array<long, Q> offset{};
   for (long k = 0; k < count; ++k) {
     const auto& [x, y, z] = nodes[k];
     const int part = RowPlans<L, T>::part_of(x, config_.nx);
     if (const long here = 3 * (y + static_cast<long>(config_.ny) * z) + part; here != row_part) {
-      offset = injection_slots(plans_.for_row(y, z), part, pulled);
+      offset = injection_slots(plans_.for_row(y, z), part);
       row_part = here;
     }
     T* at = f + cell(x, y, z);

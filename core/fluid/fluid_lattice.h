@@ -65,14 +65,11 @@ class FluidLattice {
                   const std::function<Vec3(int, int, int)>& velocity);
   void initialize_uniform(double density, const Vec3& velocity);
 
-  void step() { step(nullptr); }
-  // A step that calls `hooks` around the rows it updates, in chunks of a few thousand cells.
-  void step(RowHooks* hooks);
+  void step();
   void run(long steps);
   // MODEL.md eq. 12: adds w_i (c_i . dp) / c_s^2 to the post-collision populations that node
   // (x, y, z) produced in the step just taken, before they arrive downstream. The node's momentum
-  // grows by exactly dp and its mass is unchanged. Call between step() and the next step(), or
-  // from a RowHooks::after_rows for nodes of its rows.
+  // grows by exactly dp and its mass is unchanged. Call between step() and the next step().
   void add_momentum(int x, int y, int z, const Vec3& dp);
   // The coupling's two calls, batched: a fluid held elsewhere (a GPU, other processes) can answer
   // them for a whole list of nodes at once. Here the list is walked in order, the slots of a row's
@@ -123,8 +120,7 @@ class FluidLattice {
     std::array<T, L::Q> correction;
   };
   RowSlots read_slots(const RowPlan<T, L::Q>& plan, int part) const;
-  // `pulled`: whether the next step pulls (after the step that produced the populations).
-  std::array<long, L::Q> injection_slots(const RowPlan<T, L::Q>& plan, int part, bool pulled) const;
+  std::array<long, L::Q> injection_slots(const RowPlan<T, L::Q>& plan, int part) const;
   std::array<T, L::Q> gather(int x, int y, int z) const;  // shifted populations at time t
   std::array<T, L::Q> gather_in_row(const RowPlan<T, L::Q>& plan, int x, long cell) const;
   DensityMomentum density_momentum_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
@@ -135,7 +131,7 @@ class FluidLattice {
   void check_in_place_slots() const;
   // One step's fused kernels with the given collision policy (bgk_collision.h and siblings).
   template <class Collision>
-  void launch(RowHooks* hooks);
+  void launch();
 
   FluidConfig config_;
   long cells_;
@@ -146,7 +142,6 @@ class FluidLattice {
   bool pulled_ = true;    // in-place: true when the next step is an odd (pulling) step
   long steps_ = 0;
   bool stepped_ = false;  // a step has run since the last initialize(): add_momentum is allowed
-  bool updating_ = false; // inside a step (its row hooks run): add_momentum writes what it produces
   bool owns_pool_;
   std::shared_ptr<parallel::ThreadPool> pool_;
 };

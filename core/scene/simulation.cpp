@@ -33,22 +33,6 @@ Vec3 solve_3x3(const double m[3][3], const Vec3& v) {
 
 bool nonzero(const Vec3& v) { return v[0] != 0 || v[1] != 0 || v[2] != 0; }
 
-// The exchange's work inside the fluid's step (fluid::RowHooks): each node's fluid is read just
-// before the step updates its row and given its momentum just after. Each node's populations sit
-// in slots no other node's update touches (the in-place rules are involutions,
-// FluidLattice::check_in_place_slots), so the rows of the step's parts are independent.
-template <class Fluid>
-class ExchangeHooks final : public fluid::RowHooks {
- public:
-  ExchangeHooks(coupling::MomentumExchange& exchange, Fluid& fluid) : exchange_(exchange), fluid_(fluid) {}
-  void before_rows(long first_row, long end_row) override { exchange_.exchange_rows(fluid_, first_row, end_row); }
-  void after_rows(long first_row, long end_row) override { exchange_.inject_rows(fluid_, first_row, end_row); }
-
- private:
-  coupling::MomentumExchange& exchange_;
-  Fluid& fluid_;
-};
-
 template <class L, class T>
 class SimulationImpl final : public Simulation {
  public:
@@ -70,7 +54,6 @@ class SimulationImpl final : public Simulation {
     if (fluid_) {
       exchange_ = std::make_unique<coupling::MomentumExchange>(
           std::array<int, 3>{scene.fluid.nx, scene.fluid.ny, scene.fluid.nz}, scene.exchange);
-      hooks_ = std::make_unique<ExchangeHooks<fluid::FluidLattice<L, T>>>(*exchange_, *fluid_);
       if (rotating_) node_.resize(n);
     }
     if (scene.contact.enabled) {
@@ -95,15 +78,19 @@ class SimulationImpl final : public Simulation {
           },
           pool_.get(), parts);
       clock_.lap(Stage::kLocate);
-      exchange_->prepare(solid_->masses(), rotating_ ? momenta_at_nodes() : solid_->momenta(), *fluid_, pool_.get(),
+      exchange_->compute(solid_->masses(), rotating_ ? momenta_at_nodes() : solid_->momenta(), *fluid_, pool_.get(),
                          parts);
       clock_.lap(Stage::kExchange);
     }
     if (fluid_) {
-      // With particles, the step reads their nodes' fluid just before it updates their rows and
-      // gives them their momentum just after (ExchangeHooks), in its own parts.
-      fluid_->step(hooks_.get());
+      fluid_->step();
       clock_.lap(Stage::kFluid);
+      // Each node's populations sit in slots no other node writes (the in-place rules are
+      // involutions, FluidLattice::check_in_place_slots), so the nodes take their momentum in parts.
+      if (exchange_) {
+        exchange_->inject(*fluid_, pool_.get());
+        clock_.lap(Stage::kInject);
+      }
     }
     if (solid_) {
       // The forces on each particle (loads, the exchange's reaction, then wall contact, which needs
@@ -296,7 +283,6 @@ class SimulationImpl final : public Simulation {
   std::unique_ptr<fluid::FluidLattice<L, T>> fluid_;
   std::unique_ptr<solid::SolidSystem> solid_;
   std::unique_ptr<coupling::MomentumExchange> exchange_;
-  std::unique_ptr<ExchangeHooks<fluid::FluidLattice<L, T>>> hooks_;  // with exchange_
   solid::ContactWalls walls_;
   bool loads_ = false;
   bool rotating_ = false;                // some body's springs turn with it

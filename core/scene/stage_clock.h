@@ -7,16 +7,15 @@
 
 namespace lbsolid::scene {
 
-// locate: each particle's nearest node; exchange: the exchange's lists of nodes and its sums per
-// node; fluid: the fluid's step, which with particles also reads their nodes' fluid and gives
-// them momentum (MomentumExchange::exchange_rows and inject_rows, run as it updates their rows);
-// solid: the solid's step with the forces on each particle (loads, the exchange's reaction, wall
-// contact) summed as it goes; monitor: the stability check.
-enum class Stage { kLocate, kExchange, kFluid, kSolid, kMonitor };
-inline constexpr int kStageCount = 5;
+// locate: each particle's nearest node; exchange: the momentum exchange, reading the fluid;
+// fluid: the fluid's step; inject: the exchanged momentum into the fluid; solid: the solid's step
+// with the forces on each particle (loads, the exchange's reaction, wall contact) summed as it
+// goes; monitor: the stability check.
+enum class Stage { kLocate, kExchange, kFluid, kInject, kSolid, kMonitor };
+inline constexpr int kStageCount = 6;
 
 inline const char* stage_name(Stage stage) {
-  constexpr const char* kNames[kStageCount] = {"locate", "exchange", "fluid", "solid", "monitor"};
+  constexpr const char* kNames[kStageCount] = {"locate", "exchange", "fluid", "inject", "solid", "monitor"};
   return kNames[static_cast<int>(stage)];
 }
 

@@ -193,25 +193,19 @@ void print_scene_rows(const std::vector<SceneRow>& rows) {
                 r.particles ? std::to_string(per_particle).substr(0, 6).c_str() : "-");
   }
   // The coupled steps stage by stage, in ns per particle per step (the fluid's too, for scale).
-  // The fluid stage holds the exchange's reads of the fluid and its injection (run as the step
-  // updates each row): "in fluid" is what the stage took beyond the fluid-only step, and
-  // "coupling" every stage but the fluid's plus that.
   std::printf("\n%-36s %7s", "coupled step by stage (ns/particle)", "threads");
   for (int k = 0; k < scene::kStageCount; ++k) std::printf(" %8s", scene::stage_name(static_cast<scene::Stage>(k)));
-  std::printf(" %9s %9s\n", "in fluid", "coupling");
+  std::printf(" %9s\n", "coupling");
   for (const SceneRow& r : rows) {
     if (r.stage_seconds[static_cast<int>(scene::Stage::kExchange)] == 0) continue;
     std::printf("%-36s %7d", r.what.c_str(), r.threads);
-    const double per_particle = 1e9 / static_cast<double>(r.particles);
-    double coupling = 0;
+    double coupling = 0;  // every stage but the fluid's
     for (int k = 0; k < scene::kStageCount; ++k) {
-      const double ns = r.stage_seconds[k] * per_particle;
+      const double ns = 1e9 * r.stage_seconds[k] / static_cast<double>(r.particles);
       if (static_cast<scene::Stage>(k) != scene::Stage::kFluid) coupling += ns;
       std::printf(" %8.2f", ns);
     }
-    const double in_fluid =
-        (r.stage_seconds[static_cast<int>(scene::Stage::kFluid)] - r.reference_seconds) * per_particle;
-    std::printf(" %9.2f %9.2f\n", in_fluid, coupling + in_fluid);
+    std::printf(" %9.2f\n", coupling);
   }
   // Speed-up of each scene (and of its reference step) with threads, against its one-thread row.
   bool header = false;

@@ -29,7 +29,7 @@ TEST(StageTiming, ChangesNothingAndTimesTheStagesThatRun) {
   timed->time_stages(false);
   for (int k = 0; k < kStageCount; ++k) EXPECT_EQ(timed->stage_seconds()[k], 0) << "switching clears the sums";
 
-  // Without fluid nothing is located or exchanged.
+  // Without fluid nothing is located, exchanged or injected.
   Scene solid_only = scene;
   solid_only.with_fluid = false;
   solid_only.fluid.body_force = {0, 0, 0};
@@ -37,7 +37,7 @@ TEST(StageTiming, ChangesNothingAndTimesTheStagesThatRun) {
   auto solid = build_simulation(solid_only);
   solid->time_stages(true);
   solid->run(3);
-  for (Stage stage : {Stage::kLocate, Stage::kExchange, Stage::kFluid})
+  for (Stage stage : {Stage::kLocate, Stage::kExchange, Stage::kFluid, Stage::kInject})
     EXPECT_EQ(seconds_of(*solid, stage), 0) << stage_name(stage);
   EXPECT_GT(seconds_of(*solid, Stage::kSolid), 0);
 }
