@@ -96,7 +96,7 @@ void MomentumExchange::mark_cells(Part& part) {
 }
 
 void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& mass,
-                                  const std::vector<fluid::Vec3>& momentum) {
+                                  const solid::ParticleVectors& momentum) {
   // The marked cells in order, the node of each followed row by row from the part's first cell.
   const long nx = grid_[0], ny = grid_[1];
   long row = part.first_cell / nx, row_end = (row + 1) * nx;
@@ -126,23 +126,28 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   const std::uint32_t* __restrict slot_of_cell = slot_of_cell_.data();
   std::uint32_t* __restrict slot_of_particle = slot_.data();
   const double* __restrict masses = mass.data();
-  const fluid::Vec3* __restrict momenta = momentum.data();
+  const double* __restrict momenta = momentum.data;
   double* __restrict slot_mass = slots_.mass.data();
   fluid::Vec3* __restrict slot_momentum = slots_.momentum.data();
   const CellIndex first = part.first_cell, end = part.end_cell;
   const long n = static_cast<long>(cell_.size());
-  for (long p = 0; p < n; ++p) {
-    const CellIndex c = cells[p];
-    if (c < first || c >= end) continue;
-    const long slot = slot_of_cell[c];
-    slot_of_particle[p] = static_cast<std::uint32_t>(slot);
-    slot_mass[slot] += masses[p];
-    for (int a = 0; a < 3; ++a) slot_momentum[slot][a] += momenta[p][a];
-  }
+  // D components per particle (a 2D solid stores no z; its nodes' z sums stay zero).
+  auto sum = [&]<int D>(std::integral_constant<int, D>) {
+    for (long p = 0; p < n; ++p) {
+      const CellIndex c = cells[p];
+      if (c < first || c >= end) continue;
+      const long slot = slot_of_cell[c];
+      slot_of_particle[p] = static_cast<std::uint32_t>(slot);
+      slot_mass[slot] += masses[p];
+      for (int a = 0; a < D; ++a) slot_momentum[slot][a] += momenta[p * D + a];
+    }
+  };
+  if (momentum.dimension == 2) sum(std::integral_constant<int, 2>{});
+  else sum(std::integral_constant<int, 3>{});
 }
 
 void MomentumExchange::node_velocities(const Part& part, const std::vector<double>& mass,
-                                       const std::vector<fluid::Vec3>& momentum) {
+                                       const solid::ParticleVectors& momentum) {
   for (long s = part.base; s < part.base + part.count; ++s) {
     const fluid::DensityMomentum& f = slots_.fluid[s];
     fluid::Vec3& u = slots_.velocity[s];
@@ -164,8 +169,9 @@ void MomentumExchange::node_velocities(const Part& part, const std::vector<doubl
     if (c < part.first_cell || c >= part.end_cell) continue;
     const long s = slot_of_cell_[c];
     const double z = 1.0 / (1.0 / slots_.fluid[s].rho + 1.0 / mass[p]);
+    const fluid::Vec3 momentum_p = momentum[p];
     for (int a = 0; a < 3; ++a) {
-      pairwise_dp_[p][a] = z * (momentum[p][a] / mass[p] - slots_.velocity[s][a]);
+      pairwise_dp_[p][a] = z * (momentum_p[a] / mass[p] - slots_.velocity[s][a]);
       slots_.gained[s][a] += pairwise_dp_[p][a];
     }
   }

@@ -24,6 +24,7 @@
 #include "coupling/node_locator.h"
 #include "fluid/node_exchange_types.h"
 #include "parallel/thread_pool.h"
+#include "solid/particle_vectors.h"
 
 namespace lbsolid::coupling {
 
@@ -57,7 +58,7 @@ class MomentumExchange {
   // `fluid` answers gather_momenta(nodes, count, out) with the pre-collision density and momentum
   // of each node (FluidLattice's batched call; with a pool, from several threads at once).
   template <class Fluid>
-  void compute(const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum, const Fluid& fluid,
+  void compute(const std::vector<double>& mass, const solid::ParticleVectors& momentum, const Fluid& fluid,
                parallel::ThreadPool* pool = nullptr, int parts = 1);
   // The momentum particle p gives its node, given the mass and momentum compute() had for it.
   fluid::Vec3 particle_dp(long p, const fluid::Vec3& momentum, double mass) const {
@@ -102,9 +103,9 @@ class MomentumExchange {
   void mark_cells(Part& part);
   // Lists the part's marked nodes in cell order (clearing their marks) and sums the mass and
   // momentum of their particles.
-  void list_nodes(const Part& part, const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum);
+  void list_nodes(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum);
   // Each listed node's comparison velocity and gain, once its fluid is read.
-  void node_velocities(const Part& part, const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum);
+  void node_velocities(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum);
   // work(k) for every part k, on the pool when there are several.
   template <class Work>
   void for_parts(parallel::ThreadPool* pool, const Work& work) const;
@@ -146,7 +147,7 @@ void MomentumExchange::locate(long n, const CellOf& cell_of, parallel::ThreadPoo
 }
 
 template <class Fluid>
-void MomentumExchange::compute(const std::vector<double>& mass, const std::vector<fluid::Vec3>& momentum,
+void MomentumExchange::compute(const std::vector<double>& mass, const solid::ParticleVectors& momentum,
                                const Fluid& fluid, parallel::ThreadPool* pool, int parts) {
   cut_parts(pool ? parts : 1, pool);
   slot_.resize(cell_.size());

@@ -69,10 +69,11 @@ class SimulationImpl final : public Simulation {
     const int parts = scene_.fluid.threads;
     clock_.start();
     if (exchange_) {
+      const solid::ParticleVectors positions = solid_->positions();
       exchange_->locate(
           solid_->particle_count(),
           [&](long p) {
-            const coupling::Node node = locator_.nearest(solid_->position(static_cast<int>(p)));
+            const coupling::Node node = locator_.nearest(positions.get<L::D>(p));
             if (rotating_) node_[p] = node;  // for momenta_at_nodes()
             return static_cast<coupling::CellIndex>(locator_.cell(node));
           },
@@ -95,11 +96,13 @@ class SimulationImpl final : public Simulation {
     if (solid_) {
       // The forces on each particle (loads, the exchange's reaction, then wall contact, which needs
       // every other force) are summed as the solid's step reaches it.
+      const solid::ParticleVectors momenta = solid_->momenta();
       const auto force = [&](int p) {
         Vec3 f = loads_ ? solid_->body(solid_->body_of(p)).load : Vec3{0, 0, 0};
         if (exchange_) {
-          const Vec3 dp = exchange_->particle_dp(p, rotating_ ? momenta_at_nodes_[p] : solid_->momentum(p),
-                                                 solid_->mass(p));
+          const Vec3 dp = exchange_->particle_dp(
+              p, rotating_ ? solid::ParticleVectors{momenta_at_nodes_.data(), L::D}.get<L::D>(p) : momenta.get<L::D>(p),
+              solid_->mass(p));
           for (int a = 0; a < 3; ++a) f[a] -= dp[a];
         }
         if (walls_.any()) solid::add_wall_contact(walls_, *solid_, p, f);
@@ -124,8 +127,9 @@ class SimulationImpl final : public Simulation {
   // the body rub against it (a torque that grows with the body and falls with viscosity: measured,
   // a disk in shear turned at 0.4-0.9 of gamma_dot / 2). Only the comparison changes: the
   // momentum each exchange gives the fluid is still taken from the particle.
-  const std::vector<Vec3>& momenta_at_nodes() {
-    momenta_at_nodes_ = solid_->momenta();
+  solid::ParticleVectors momenta_at_nodes() {
+    const solid::ParticleVectors momenta = solid_->momenta();
+    momenta_at_nodes_.assign(momenta.data, momenta.data + static_cast<std::size_t>(solid_->particle_count()) * L::D);
     const double period[3] = {static_cast<double>(scene_.fluid.nx), scene_.fluid.ny * L::row_spacing,
                               static_cast<double>(scene_.fluid.nz)};
     for (int b = 0; b < solid_->body_count(); ++b) {
@@ -141,12 +145,13 @@ class SimulationImpl final : public Simulation {
           d[a] -= period[a] * std::round(d[a] / period[a]);  // the node across a periodic side
         }
         const double m = solid_->mass(p);
-        momenta_at_nodes_[p][0] += m * (w[1] * d[2] - w[2] * d[1]);
-        momenta_at_nodes_[p][1] += m * (w[2] * d[0] - w[0] * d[2]);
-        momenta_at_nodes_[p][2] += m * (w[0] * d[1] - w[1] * d[0]);
+        double* at_node = &momenta_at_nodes_[static_cast<std::size_t>(p) * L::D];
+        at_node[0] += m * (w[1] * d[2] - w[2] * d[1]);
+        at_node[1] += m * (w[2] * d[0] - w[0] * d[2]);
+        if constexpr (L::D == 3) at_node[2] += m * (w[0] * d[1] - w[1] * d[0]);
       }
     }
-    return momenta_at_nodes_;
+    return {momenta_at_nodes_.data(), L::D};
   }
 
   long step_count() const override { return steps_; }
@@ -173,7 +178,7 @@ class SimulationImpl final : public Simulation {
     std::size_t bytes = solid_->bytes_allocated();
     if (exchange_)
       bytes += exchange_->bytes_allocated() + node_.capacity() * sizeof(coupling::Node) +
-               momenta_at_nodes_.capacity() * sizeof(Vec3);
+               momenta_at_nodes_.capacity() * sizeof(double);
     return bytes;
   }
 
@@ -286,7 +291,7 @@ class SimulationImpl final : public Simulation {
   solid::ContactWalls walls_;
   bool loads_ = false;
   bool rotating_ = false;                // some body's springs turn with it
-  std::vector<Vec3> momenta_at_nodes_;   // momenta_at_nodes()' answer, kept between steps
+  std::vector<double> momenta_at_nodes_; // momenta_at_nodes()' answer, kept between steps
   long steps_ = 0;
   std::vector<coupling::Node> node_;  // rotating scenes: each particle's node, from the last locate
   StageClock clock_;

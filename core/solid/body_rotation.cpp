@@ -71,7 +71,8 @@ double SolidSystem::best_fit_angle(int b) const {
     for (int k = 0; k < 2; ++k) {
       const int q = neighbours_[static_cast<std::size_t>(p) * kLinks + k];
       if (q < 0) continue;
-      const double dx = positions_[q][0] - positions_[p][0], dy = positions_[q][1] - positions_[p][1];
+      const Vec3 rp = position(p), rq = position(q);
+      const double dx = rq[0] - rp[0], dy = rq[1] - rp[1];
       cross += k == 0 ? dy : -dx;
       dot += k == 0 ? dx : dy;
     }
@@ -94,7 +95,8 @@ Rotation SolidSystem::best_fit_rotation(int b) const {
     for (int k = 0; k < 3; ++k) {
       const int q = neighbours_[static_cast<std::size_t>(p) * kLinks + k];
       if (q < 0) continue;
-      for (int a = 0; a < 3; ++a) m[k][a] += positions_[q][a] - positions_[p][a];
+      const Vec3 rp = position(p), rq = position(q);
+      for (int a = 0; a < 3; ++a) m[k][a] += rq[a] - rp[a];
     }
   const double xx = m[0][0], xy = m[0][1], xz = m[0][2], yx = m[1][0], yy = m[1][1], yz = m[1][2], zx = m[2][0],
                zy = m[2][1], zz = m[2][2];
@@ -114,11 +116,13 @@ void SolidSystem::co_rotate(int b) {
     for (int k = 0; k < d; ++k) {  // the links along +x, +y (, +z): each link once
       const int q = neighbours_[static_cast<std::size_t>(p) * links_ + k];
       if (q < 0) continue;
-      Vec3& at_q = incoming_[static_cast<std::size_t>(q) * links_ + k];                      // f_k(q), from p
-      Vec3& at_p = incoming_[static_cast<std::size_t>(p) * links_ + topology_.opposite(k)];  // f_opp(k)(p), from q
+      double* at_q = incoming_at(q, k);                      // f_k(q), from p
+      double* at_p = incoming_at(p, topology_.opposite(k));  // f_opp(k)(p), from q
+      const double* rp = position_at(p);
+      const double* rq = position_at(q);
       for (int a = 0; a < d; ++a) {
         // T = R spacing c_k (column k of R), less D as the step left it.
-        const double shift = body.spacing * body.frame[a][k] - (positions_[q][a] - positions_[p][a] + at_q[a] - at_p[a]);
+        const double shift = body.spacing * body.frame[a][k] - (rq[a] - rp[a] + at_q[a] - at_p[a]);
         at_q[a] += shift;
         at_p[a] -= shift;
       }
@@ -140,8 +144,8 @@ void SolidSystem::set_spin(int b, const Vec3& velocity, const Vec3& w) {
       if (q < 0) continue;
       // The vector that arrived at q from p along link k is this link's (v_p + v_q)/4.
       const Vec3 vp = rigid_velocity(p), vq = rigid_velocity(q);
-      Vec3& f = incoming_[static_cast<std::size_t>(q) * links_ + k];
-      for (int a = 0; a < 3; ++a) f[a] = 0.25 * (vp[a] + vq[a]);
+      double* f = incoming_at(q, k);
+      for (int a = 0; a < dim_; ++a) f[a] = 0.25 * (vp[a] + vq[a]);
     }
 }
 

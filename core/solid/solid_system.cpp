@@ -9,7 +9,7 @@
 
 namespace lbsolid::solid {
 
-SolidSystem::SolidSystem(int dimension) : topology_{dimension}, links_(2 * dimension) {
+SolidSystem::SolidSystem(int dimension) : topology_{dimension}, links_(2 * dimension), dim_(dimension) {
   if (dimension != 2 && dimension != 3)
     throw std::invalid_argument("dimension: must be 2 or 3, got " + std::to_string(dimension));
 }
@@ -23,6 +23,10 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
   for (int q = 0; q < n; ++q)
     if (!index.emplace(labels[q], first + q).second)
       throw std::invalid_argument("labels: a label appears twice in body '" + name + "'");
+  if (dim_ == 2 && (centre[2] != 0 || velocity[2] != 0 || load[2] != 0 || angular_velocity[0] != 0 ||
+                    angular_velocity[1] != 0))
+    throw std::invalid_argument("body '" + name + "': a 2D body has no z component of centre, velocity or load, "
+                                "and spins only about z");
   const auto masses = link_masses(labels, topology_);
   if (std::find(masses.begin(), masses.end(), 0.0) != masses.end())
     throw std::invalid_argument("labels: a particle of body '" + name + "' has no neighbour (M = K/2 = 0)");
@@ -39,7 +43,7 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
     const Label& l = labels[q];
     body_index_.push_back(body);
     labels_.push_back(l);
-    positions_.push_back(positions[q]);
+    positions_.insert(positions_.end(), positions[q].begin(), positions[q].begin() + dim_);
     mass_.push_back(masses[q]);
     for (int k = 0; k < links_; ++k) {
       const Label c = topology_.link(k);
@@ -52,10 +56,11 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
   const Vec3 half{0.5 * velocity[0], 0.5 * velocity[1], 0.5 * velocity[2]};
   for (int p = first; p < first + n; ++p)
     for (int k = 0; k < links_; ++k) {
-      incoming_.push_back(neighbours_[p * links_ + topology_.opposite(k)] >= 0 ? half : Vec3{0, 0, 0});
-      outgoing_.push_back({0, 0, 0});
+      const Vec3 f = neighbours_[p * links_ + topology_.opposite(k)] >= 0 ? half : Vec3{0, 0, 0};
+      incoming_.insert(incoming_.end(), f.begin(), f.begin() + dim_);
+      outgoing_.insert(outgoing_.end(), dim_, 0.0);
     }
-  momentum_.resize(particle_count());
+  momentum_.resize(static_cast<std::size_t>(particle_count()) * dim_);
   if (angular_velocity != Vec3{0, 0, 0}) set_spin(body, velocity, angular_velocity);
   links_ == 6 ? update_momentum<6>(first, first + n) : update_momentum<4>(first, first + n);
   if (rotates) {
@@ -75,8 +80,10 @@ Vec3 SolidSystem::rest_separation(int p, int k) const {
 
 double SolidSystem::energy(int p) const {
   double e = 0;
-  for (int k = 0; k < links_; ++k)
-    for (int a = 0; a < 3; ++a) e += incoming_[p * links_ + k][a] * incoming_[p * links_ + k][a];
+  for (int k = 0; k < links_; ++k) {
+    const Vec3 f = incoming(p, k);
+    for (int a = 0; a < 3; ++a) e += f[a] * f[a];
+  }
   return e;
 }
 
@@ -97,20 +104,49 @@ double SolidSystem::total_energy() const {
 
 std::size_t SolidSystem::bytes_allocated() const {
   return body_index_.capacity() * sizeof(int) + labels_.capacity() * sizeof(Label) +
-         positions_.capacity() * sizeof(Vec3) + mass_.capacity() * sizeof(double) +
-         neighbours_.capacity() * sizeof(int) +
-         (incoming_.capacity() + outgoing_.capacity() + momentum_.capacity()) * sizeof(Vec3);
+         mass_.capacity() * sizeof(double) + neighbours_.capacity() * sizeof(int) +
+         (positions_.capacity() + incoming_.capacity() + outgoing_.capacity() + momentum_.capacity()) * sizeof(double);
+}
+
+namespace {
+
+std::vector<Vec3> as_vec3(const std::vector<double>& stored, int dimension) {
+  const ParticleVectors view{stored.data(), dimension};
+  std::vector<Vec3> v(stored.size() / dimension);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = view[static_cast<long>(i)];
+  return v;
+}
+
+// Throws when a 2D system would be given a z component (it stores none).
+std::vector<double> as_stored(const std::vector<Vec3>& v, int dimension, const char* what) {
+  std::vector<double> stored;
+  stored.reserve(v.size() * dimension);
+  for (const Vec3& x : v) {
+    if (dimension == 2 && x[2] != 0)
+      throw std::invalid_argument(std::string("solid state: ") + what + " has a z component in a 2D solid");
+    stored.insert(stored.end(), x.begin(), x.begin() + dimension);
+  }
+  return stored;
+}
+
+}  // namespace
+
+SolidState SolidSystem::state() const {
+  return {as_vec3(positions_, dim_), as_vec3(incoming_, dim_), as_vec3(momentum_, dim_)};
 }
 
 void SolidSystem::restore(const SolidState& state) {
-  const std::size_t n = positions_.size();
-  if (state.positions.size() != n || state.momentum.size() != n || state.incoming.size() != incoming_.size())
+  const std::size_t n = particle_count(), slots = n * links_;
+  if (state.positions.size() != n || state.momentum.size() != n || state.incoming.size() != slots)
     throw std::invalid_argument("solid state: holds " + std::to_string(state.positions.size()) + " particles and " +
                                 std::to_string(state.incoming.size()) + " link slots; this solid has " +
-                                std::to_string(n) + " and " + std::to_string(incoming_.size()));
-  positions_ = state.positions;
-  incoming_ = state.incoming;
-  momentum_ = state.momentum;
+                                std::to_string(n) + " and " + std::to_string(slots));
+  auto positions = as_stored(state.positions, dim_, "a position");
+  auto incoming = as_stored(state.incoming, dim_, "a link vector");
+  auto momentum = as_stored(state.momentum, dim_, "a momentum");
+  positions_ = std::move(positions);
+  incoming_ = std::move(incoming);
+  momentum_ = std::move(momentum);
   for (int b = 0; b < body_count(); ++b)
     if (bodies_[b].rotates) {  // as the last step left it
       bodies_[b].frame = best_fit_rotation(b);

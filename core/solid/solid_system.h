@@ -25,6 +25,7 @@
 
 #include "parallel/thread_pool.h"
 #include "solid/body_shape.h"
+#include "solid/particle_vectors.h"
 #include "solid/solid_topology.h"
 
 namespace lbsolid::solid {
@@ -79,18 +80,19 @@ class SolidSystem {
 
   const SolidTopology& topology() const { return topology_; }
   int dimension() const { return topology_.dimension; }
-  int particle_count() const { return static_cast<int>(positions_.size()); }
+  int particle_count() const { return static_cast<int>(mass_.size()); }
   int body_count() const { return static_cast<int>(bodies_.size()); }
   const Body& body(int b) const { return bodies_[b]; }
   int body_of(int p) const { return body_index_[p]; }
   const Label& label(int p) const { return labels_[p]; }
-  const Vec3& position(int p) const { return positions_[p]; }
+  Vec3 position(int p) const { return positions()[p]; }
+  ParticleVectors positions() const { return {positions_.data(), dim_}; }
   double mass(int p) const { return mass_[p]; }  // K/2
   const std::vector<double>& masses() const { return mass_; }
-  const std::vector<Vec3>& momenta() const { return momentum_; }
+  ParticleVectors momenta() const { return {momentum_.data(), dim_}; }
   int neighbour(int p, int k) const { return neighbours_[p * links_ + k]; }  // -1 if missing
-  const Vec3& incoming(int p, int k) const { return incoming_[p * links_ + k]; }  // f_k(p)
-  const Vec3& momentum(int p) const { return momentum_[p]; }  // Psi_p = sum_k f_k(p), kept current
+  Vec3 incoming(int p, int k) const { return ParticleVectors{incoming_.data(), dim_}[p * links_ + k]; }  // f_k(p)
+  Vec3 momentum(int p) const { return momenta()[p]; }  // Psi_p = sum_k f_k(p), kept current
   double energy(int p) const;  // E_p = sum_k |f_k(p)|^2 (eq. 9)
   // Delta0_k(p) fixed at placement: the rest separation from p to its neighbour along link k
   // (spacing c_k; zero where the link is missing).
@@ -108,24 +110,29 @@ class SolidSystem {
   Vec3 total_momentum() const;
   double total_energy() const;
 
-  SolidState state() const { return {positions_, incoming_, momentum_}; }
-  // Throws std::invalid_argument when the sizes do not match this system's particles and links.
+  SolidState state() const;
+  // Throws std::invalid_argument when the sizes do not match this system's particles and links,
+  // or when a 2D system is given a vector with a z component.
   void restore(const SolidState& state);
   std::size_t bytes_allocated() const;
 
  private:
   SolidTopology topology_;
   int links_;
+  int dim_;  // components stored per vector (particle_vectors.h)
   std::vector<Body> bodies_;
   std::vector<int> body_index_;
   std::vector<Label> labels_;
-  std::vector<Vec3> positions_;
+  std::vector<double> positions_;  // r_p at [p * dim + a]
   std::vector<double> mass_;
   std::vector<int> neighbours_;  // [p * links + k]
-  std::vector<Vec3> incoming_;   // f_k(p) at time t
-  std::vector<Vec3> outgoing_;   // written by step(), then swapped in
-  std::vector<Vec3> momentum_;   // Psi of the incoming vectors: read by the exchange, contact and step
-  // Per dimension (Links = 4 or 6) so that the link loops unroll and opp(k) is a constant.
+  std::vector<double> incoming_;   // f_k(p) at time t, at [(p * links + k) * dim + a]
+  std::vector<double> outgoing_;   // written by step(), then swapped in
+  std::vector<double> momentum_;   // Psi of the incoming vectors: read by the exchange, contact and step
+  double* position_at(int p) { return &positions_[static_cast<std::size_t>(p) * dim_]; }
+  double* incoming_at(int p, int k) { return &incoming_[(static_cast<std::size_t>(p) * links_ + k) * dim_]; }
+  // Per dimension (Links = 4 or 6, Links / 2 components) so that the loops unroll and opp(k) is a
+  // constant.
   template <int Links>
   void update_momentum(int first, int end);
   template <int Links, class Force>
@@ -163,33 +170,36 @@ void SolidSystem::step(const Force& force, parallel::ThreadPool* pool, int parts
 // Eq. 7 and the wave rule for particles [first, end): positions, and the vectors each sends.
 template <int Links, class Force>
 void SolidSystem::advance(const Force& force, int first, int end) {
+  constexpr int D = Links / 2;
   for (int p = first; p < end; ++p) {
     const Vec3 f = force(p);
-    const Vec3& psi = momentum_[p];
+    const double* psi = &momentum_[static_cast<std::size_t>(p) * D];
     const double inv_m = 1.0 / mass_[p];
-    Vec3 base;  // Psi/M + F/(2M): the displacement, and the common part of every outgoing vector
-    for (int a = 0; a < 3; ++a) base[a] = (psi[a] + 0.5 * f[a]) * inv_m;
+    double base[D];  // Psi/M + F/(2M): the displacement, and the common part of every outgoing vector
+    for (int a = 0; a < D; ++a) base[a] = (psi[a] + 0.5 * f[a]) * inv_m;
     const int* neighbour = &neighbours_[static_cast<std::size_t>(p) * Links];
-    const Vec3* in = &incoming_[static_cast<std::size_t>(p) * Links];
+    const double* in = &incoming_[static_cast<std::size_t>(p) * Links * D];
     for (int k = 0; k < Links; ++k) {
       const int q = neighbour[k];
       if (q < 0) continue;
-      const Vec3& back = in[(k + Links / 2) % Links];  // f_opp(k)(p)
-      Vec3& out = outgoing_[static_cast<std::size_t>(q) * Links + k];
-      for (int a = 0; a < 3; ++a) out[a] = base[a] - back[a];
+      const double* back = &in[(k + Links / 2) % Links * D];  // f_opp(k)(p)
+      double* out = &outgoing_[(static_cast<std::size_t>(q) * Links + k) * D];
+      for (int a = 0; a < D; ++a) out[a] = base[a] - back[a];
     }
-    for (int a = 0; a < 3; ++a) positions_[p][a] += base[a];
+    double* r = &positions_[static_cast<std::size_t>(p) * D];
+    for (int a = 0; a < D; ++a) r[a] += base[a];
   }
 }
 
 template <int Links>
 void SolidSystem::update_momentum(int first, int end) {
+  constexpr int D = Links / 2;
   for (int p = first; p < end; ++p) {
-    const Vec3* in = &incoming_[static_cast<std::size_t>(p) * Links];
-    Vec3 psi{0, 0, 0};
+    const double* in = &incoming_[static_cast<std::size_t>(p) * Links * D];
+    double psi[D] = {};
     for (int k = 0; k < Links; ++k)
-      for (int a = 0; a < 3; ++a) psi[a] += in[k][a];
-    momentum_[p] = psi;
+      for (int a = 0; a < D; ++a) psi[a] += in[k * D + a];
+    for (int a = 0; a < D; ++a) momentum_[static_cast<std::size_t>(p) * D + a] = psi[a];
   }
 }
 

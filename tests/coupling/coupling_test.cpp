@@ -117,6 +117,13 @@ struct UniformFluid {
   }
 };
 
+// Vectors laid out as a 3D solid stores them (particle_vectors.h).
+std::vector<double> flattened(const std::vector<Vec3>& v) {
+  std::vector<double> flat;
+  for (const Vec3& x : v) flat.insert(flat.end(), x.begin(), x.end());
+  return flat;
+}
+
 // One exchange leaves a lone particle and its node at the same velocity, with dP = Z (u_s - u_f),
 // 1/Z = 1/rho + 1/M (eq. 14).
 TEST(MomentumExchange, LoneParticleAndItsNodeReachOneVelocity) {
@@ -125,7 +132,7 @@ TEST(MomentumExchange, LoneParticleAndItsNodeReachOneVelocity) {
   const double mass = 1.5;
   const Vec3 psi{0.09, 0.012, -0.03};
   exchange.locate(1, [](long) { return CellIndex{1}; });
-  exchange.compute({mass}, {psi}, UniformFluid{fluid_state});
+  exchange.compute({mass}, {psi.data(), 3}, UniformFluid{fluid_state});
   const std::vector<Vec3> dp{exchange.particle_dp(0, psi, mass)};
   const auto nodes = exchange.exchanged();
   ASSERT_EQ(nodes.size(), 1);
@@ -147,10 +154,12 @@ TEST(MomentumExchange, SeveralParticlesOnOneNodeShareOneVelocity) {
   const fluid::Moments fluid_state{1.0, {0, 0, 0}};
   const std::vector<double> mass{2, 2, 2, 2};
   const std::vector<Vec3> psi{{0.2, 0, 0}, {0.2, 0, 0}, {0.2, 0, 0}, {0.2, 0, 0}};  // u_s = 0.1
+  const std::vector<double> psi_stored = flattened(psi);
+  const solid::ParticleVectors momenta{psi_stored.data(), 3};
   const auto on_one_node = [](long) { return CellIndex{0}; };
   MomentumExchange common({1, 1, 1}, ExchangeRule::kCommonVelocity);
   common.locate(4, on_one_node);
-  common.compute(mass, psi, UniformFluid{fluid_state});
+  common.compute(mass, momenta, UniformFluid{fluid_state});
   const double gained = common.exchanged().gained[0][0];
   const double u_star = 0.8 / 9.0;
   EXPECT_NEAR(gained / fluid_state.rho, u_star, 1e-16);
@@ -158,7 +167,7 @@ TEST(MomentumExchange, SeveralParticlesOnOneNodeShareOneVelocity) {
     EXPECT_NEAR((psi[p][0] - common.particle_dp(p, psi[p], mass[p])[0]) / mass[p], u_star, 1e-16);
   MomentumExchange pairwise({1, 1, 1}, ExchangeRule::kPairwise);
   pairwise.locate(4, on_one_node);
-  pairwise.compute(mass, psi, UniformFluid{fluid_state});
+  pairwise.compute(mass, momenta, UniformFluid{fluid_state});
   const double overshoot = pairwise.exchanged().gained[0][0];
   report("pairwise fluid velocity / particle velocity before exchange", overshoot / 0.1, 1.0);
   EXPECT_GT(overshoot / fluid_state.rho, 0.1);  // the fluid ends faster than the particles were

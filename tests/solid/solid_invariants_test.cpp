@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 #include "fluid/fluid_test_support.h"
 #include "solid/body_shape.h"
@@ -154,6 +156,41 @@ TEST(SolidInvariants, LoneSolidCentreOfMassMovesStraight) {
     report("centre of mass off the straight line, worst (" + std::to_string(dimension) + "D)", worst, 1e-12);
     EXPECT_LT(worst, 1e-12);
   }
+}
+
+// A 2D solid stores no z components (solid/particle_vectors.h): it refuses one rather than drop it,
+// at placement and on restore, and restores its own state exactly.
+TEST(SolidInvariants, A2DSolidRefusesZComponents) {
+  SolidSystem solid(2);
+  BodySpec sheet;
+  sheet.size = {3, 2, 1};
+  const auto labels = body_labels(sheet, 2);
+  EXPECT_THROW(solid.add_body("s", labels, 1.0, {0, 0, 1}, {0, 0, 0}, {0, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(solid.add_body("s", labels, 1.0, {0, 0, 0}, {0, 0, 0.1}, {0, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(solid.add_body("s", labels, 1.0, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0.1, 0, 0}), std::invalid_argument);
+  EXPECT_EQ(solid.particle_count(), 0);
+  solid.add_body("s", labels, 1.0, {0, 0, 0}, {0.01, 0.02, 0}, {0, 0, 0});
+  std::vector<Vec3> force(solid.particle_count(), Vec3{0.001, -0.002, 0});
+  solid.step(force);
+  const SolidState saved = solid.state();
+  for (auto vectors : {&SolidState::positions, &SolidState::incoming, &SolidState::momentum}) {
+    SolidState bad = saved;
+    (bad.*vectors).back()[2] = 1e-3;
+    try {
+      solid.restore(bad);
+      ADD_FAILURE() << "a z component was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("z component"), std::string::npos) << e.what();
+    }
+  }
+  SolidSystem copy(2);
+  copy.add_body("s", labels, 1.0, {0, 0, 0}, {0, 0, 0}, {0, 0, 0});
+  copy.restore(saved);
+  solid.step(force);
+  copy.step(force);
+  EXPECT_EQ(copy.state().positions, solid.state().positions);
+  EXPECT_EQ(copy.state().incoming, solid.state().incoming);
+  EXPECT_EQ(copy.state().momentum, solid.state().momentum);
 }
 
 TEST(BodyShape, ShapesAndValidation) {
