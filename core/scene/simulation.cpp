@@ -4,32 +4,21 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "coupling/momentum_exchange.h"
 #include "coupling/node_locator.h"
 #include "lattice/d2q7.h"
 #include "lattice/d2q9.h"
 #include "lattice/d3q19.h"
 #include "observe/stability.h"
 #include "observe/velocity_profile.h"
+#include "scene/stages/exchange_stage.h"
+#include "scene/stages/fluid_stage.h"
+#include "scene/stages/rotation_stage.h"
+#include "scene/stages/solid_stage.h"
 #include "solid/wall_contact.h"
 
 namespace lbsolid::scene {
 
 namespace {
-
-// x with m x = v by Cramer's rule; zero if m is singular (to round-off of its entries' size).
-Vec3 solve_3x3(const double m[3][3], const Vec3& v) {
-  const auto det = [](double a, double b, double c, double d, double e, double f, double g, double h, double i) {
-    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
-  };
-  const double d = det(m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[2][0], m[2][1], m[2][2]);
-  double scale = 0;
-  for (int i = 0; i < 3; ++i) scale = std::max(scale, std::abs(m[i][i]));
-  if (!(std::abs(d) > 1e-12 * scale * scale * scale)) return {0, 0, 0};
-  return {det(v[0], m[0][1], m[0][2], v[1], m[1][1], m[1][2], v[2], m[2][1], m[2][2]) / d,
-          det(m[0][0], v[0], m[0][2], m[1][0], v[1], m[1][2], m[2][0], v[2], m[2][2]) / d,
-          det(m[0][0], m[0][1], v[0], m[1][0], m[1][1], v[1], m[2][0], m[2][1], v[2]) / d};
-}
 
 bool nonzero(const Vec3& v) { return v[0] != 0 || v[1] != 0 || v[2] != 0; }
 
@@ -41,76 +30,38 @@ class SimulationImpl final : public Simulation {
         locator_(scene.fluid),
         pool_(pool ? std::move(pool) : std::make_shared<parallel::ThreadPool>(scene.fluid.threads)) {
     if (scene.with_fluid) fluid_ = std::make_unique<fluid::FluidLattice<L, T>>(scene.fluid, pool_);
-    if (scene.bodies.empty()) return;
-    solid_ = std::make_unique<solid::SolidSystem>(L::D);
-    for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
-      const auto& spec = scene.bodies[b];
-      solid_->add_body(body_name(scene, b), solid::body_labels(spec, L::D), spec.spacing, spec.centre, spec.velocity,
-                       spec.load, spec.angular_velocity, spec.rotation);
-      loads_ = loads_ || nonzero(spec.load);
-      rotating_ = rotating_ || spec.rotation;
-    }
-    const int n = solid_->particle_count();
-    if (fluid_) {
-      exchange_ = std::make_unique<coupling::MomentumExchange>(
-          std::array<int, 3>{scene.fluid.nx, scene.fluid.ny, scene.fluid.nz}, scene.exchange);
-      if (rotating_) node_.resize(n);
-    }
-    if (scene.contact.enabled) {
-      walls_.restitution = scene.contact.restitution;
-      for (int side = 0; side < 2 * L::D; ++side) {
-        walls_.present[side] = scene.fluid.sides[side].kind != fluid::WallKind::kPeriodic;
-        walls_.position[side] = wall_position(scene, side);
+    bool loads = false, rotating = false;
+    if (!scene.bodies.empty()) {
+      solid_ = std::make_unique<solid::SolidSystem>(L::D);
+      for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+        const auto& spec = scene.bodies[b];
+        solid_->add_body(body_name(scene, b), solid::body_labels(spec, L::D), spec.spacing, spec.centre,
+                         spec.velocity, spec.load, spec.angular_velocity, spec.rotation);
+        loads = loads || nonzero(spec.load);
+        rotating = rotating || spec.rotation;
+      }
+      if (fluid_) coupling_ = std::make_unique<CouplingState>(scene, solid_->particle_count(), rotating);
+      if (scene.contact.enabled) {
+        walls_.restitution = scene.contact.restitution;
+        for (int side = 0; side < 2 * L::D; ++side) {
+          walls_.present[side] = scene.fluid.sides[side].kind != fluid::WallKind::kPeriodic;
+          walls_.position[side] = wall_position(scene, side);
+        }
       }
     }
+    // The step: only the stages the scene calls for, in MODEL.md's order (step_stage.h).
+    if (coupling_)
+      stages_.push_back(
+          std::make_unique<ExchangeStage<L, T>>(scene_, locator_, *fluid_, *solid_, *coupling_, *pool_));
+    if (fluid_) stages_.push_back(std::make_unique<FluidStage<L, T>>(*fluid_, coupling_.get(), *pool_));
+    if (solid_)
+      stages_.push_back(make_solid_stage<L::D>(loads, walls_.any(), scene_, *solid_, coupling_.get(), walls_, *pool_));
+    if (rotating) stages_.push_back(std::make_unique<RotationStage>(*solid_));  // after the solid's update
   }
 
   void step() override {
-    const int parts = scene_.fluid.threads;
     clock_.start();
-    if (exchange_) {
-      const solid::ParticleVectors positions = solid_->positions();
-      exchange_->locate(
-          solid_->particle_count(),
-          [&](long p) {
-            const coupling::Node node = locator_.nearest(positions.get<L::D>(p));
-            if (rotating_) node_[p] = node;  // for momenta_at_nodes()
-            return static_cast<coupling::CellIndex>(locator_.cell(node));
-          },
-          pool_.get(), parts);
-      clock_.lap(Stage::kLocate);
-      exchange_->compute(solid_->masses(), rotating_ ? momenta_at_nodes() : solid_->momenta(), *fluid_, pool_.get(),
-                         parts);
-      clock_.lap(Stage::kExchange);
-    }
-    if (fluid_) {
-      fluid_->step();
-      clock_.lap(Stage::kFluid);
-      // Each node's populations sit in slots no other node writes (the in-place rules are
-      // involutions, FluidLattice::check_in_place_slots), so the nodes take their momentum in parts.
-      if (exchange_) {
-        exchange_->inject(*fluid_, pool_.get());
-        clock_.lap(Stage::kInject);
-      }
-    }
-    if (solid_) {
-      // The forces on each particle (loads, the exchange's reaction, then wall contact, which needs
-      // every other force) are summed as the solid's step reaches it.
-      const solid::ParticleVectors momenta = solid_->momenta();
-      const auto force = [&](int p) {
-        Vec3 f = loads_ ? solid_->body(solid_->body_of(p)).load : Vec3{0, 0, 0};
-        if (exchange_) {
-          const Vec3 dp = exchange_->particle_dp(
-              p, rotating_ ? solid::ParticleVectors{momenta_at_nodes_.data(), L::D}.get<L::D>(p) : momenta.get<L::D>(p),
-              solid_->mass(p));
-          for (int a = 0; a < 3; ++a) f[a] -= dp[a];
-        }
-        if (walls_.any()) solid::add_wall_contact(walls_, *solid_, p, f);
-        return f;
-      };
-      solid_->step(force, pool_.get(), parts);
-      clock_.lap(Stage::kSolid);
-    }
+    for (const auto& stage : stages_) stage->run(clock_);
     ++steps_;
     // After the step is complete, so a throw leaves a consistent state at step N to read or save.
     const int every = scene_.monitor.interval;
@@ -121,39 +72,6 @@ class SimulationImpl final : public Simulation {
     }
   }
 
-  // The momenta the exchange compares with each particle's node: a rotating body's particle moves
-  // with its body's spin, so the solid at its node, |node - r| up to half a spacing away, moves at
-  // u + w x (node - r). Comparing the node's fluid with u alone would make a fluid that turns with
-  // the body rub against it (a torque that grows with the body and falls with viscosity: measured,
-  // a disk in shear turned at 0.4-0.9 of gamma_dot / 2). Only the comparison changes: the
-  // momentum each exchange gives the fluid is still taken from the particle.
-  solid::ParticleVectors momenta_at_nodes() {
-    const solid::ParticleVectors momenta = solid_->momenta();
-    momenta_at_nodes_.assign(momenta.data, momenta.data + static_cast<std::size_t>(solid_->particle_count()) * L::D);
-    const double period[3] = {static_cast<double>(scene_.fluid.nx), scene_.fluid.ny * L::row_spacing,
-                              static_cast<double>(scene_.fluid.nz)};
-    for (int b = 0; b < solid_->body_count(); ++b) {
-      const auto& body = solid_->body(b);
-      if (!body.rotates) continue;
-      const Vec3 w = body_state(b).angular_velocity;
-      for (int p = body.first; p < body.first + body.count; ++p) {
-        const auto& node = node_[p];
-        const Vec3 at = fluid::FluidLattice<L, T>::position(node[0], node[1], node[2]);
-        Vec3 d{0, 0, 0};
-        for (int a = 0; a < L::D; ++a) {
-          d[a] = at[a] - solid_->position(p)[a];
-          d[a] -= period[a] * std::round(d[a] / period[a]);  // the node across a periodic side
-        }
-        const double m = solid_->mass(p);
-        double* at_node = &momenta_at_nodes_[static_cast<std::size_t>(p) * L::D];
-        at_node[0] += m * (w[1] * d[2] - w[2] * d[1]);
-        at_node[1] += m * (w[2] * d[0] - w[0] * d[2]);
-        if constexpr (L::D == 3) at_node[2] += m * (w[0] * d[1] - w[1] * d[0]);
-      }
-    }
-    return {momenta_at_nodes_.data(), L::D};
-  }
-
   long step_count() const override { return steps_; }
   void time_stages(bool on) override { clock_.enable(on); }
   StageClock::Seconds stage_seconds() const override { return clock_.seconds(); }
@@ -162,24 +80,16 @@ class SimulationImpl final : public Simulation {
   const solid::SolidSystem* solid() const override { return solid_.get(); }
 
   std::vector<std::string> stages() const override {
-    std::vector<std::string> s;
-    if (exchange_) s.push_back("exchange");
-    if (fluid_) s.push_back("fluid");
-    if (loads_) s.push_back("loads");
-    if (solid_ && walls_.any()) s.push_back("contact");
-    if (solid_) s.push_back("solid");
-    if (rotating_) s.push_back("rotation");  // after the solid's update (SolidSystem::step)
-    return s;
+    std::vector<std::string> names;
+    for (const auto& stage : stages_)
+      for (auto& name : stage->names()) names.push_back(std::move(name));
+    return names;
   }
 
   std::size_t fluid_bytes() const override { return fluid_ ? fluid_->bytes_allocated() : 0; }
   std::size_t solid_bytes() const override {
     if (!solid_) return 0;
-    std::size_t bytes = solid_->bytes_allocated();
-    if (exchange_)
-      bytes += exchange_->bytes_allocated() + node_.capacity() * sizeof(coupling::Node) +
-               momenta_at_nodes_.capacity() * sizeof(double);
-    return bytes;
+    return solid_->bytes_allocated() + (coupling_ ? coupling_->bytes_allocated() : 0);
   }
 
   std::vector<double> velocity_profile() const override {
@@ -287,13 +197,10 @@ class SimulationImpl final : public Simulation {
   std::shared_ptr<parallel::ThreadPool> pool_;
   std::unique_ptr<fluid::FluidLattice<L, T>> fluid_;
   std::unique_ptr<solid::SolidSystem> solid_;
-  std::unique_ptr<coupling::MomentumExchange> exchange_;
+  std::unique_ptr<CouplingState> coupling_;  // with fluid and bodies
   solid::ContactWalls walls_;
-  bool loads_ = false;
-  bool rotating_ = false;                // some body's springs turn with it
-  std::vector<double> momenta_at_nodes_; // momenta_at_nodes()' answer, kept between steps
+  std::vector<std::unique_ptr<StepStage>> stages_;
   long steps_ = 0;
-  std::vector<coupling::Node> node_;  // rotating scenes: each particle's node, from the last locate
   StageClock clock_;
 };
 
@@ -324,42 +231,7 @@ BodyState Simulation::body_state(int body) const {
   const auto* s = solid();
   if (!s || body < 0 || body >= s->body_count())
     throw std::out_of_range("body: no body " + std::to_string(body) + " in this scene");
-  BodyState state;
-  const auto& b = s->body(body);
-  Vec3 momentum{0, 0, 0};
-  for (int p = b.first; p < b.first + b.count; ++p) {
-    const double m = s->mass(p);
-    const Vec3 psi = s->momentum(p);
-    state.mass += m;
-    for (int a = 0; a < 3; ++a) {
-      state.centre_of_mass[a] += m * s->position(p)[a];
-      momentum[a] += psi[a];
-    }
-  }
-  for (int a = 0; a < 3; ++a) {
-    state.centre_of_mass[a] /= state.mass;
-    state.velocity[a] = momentum[a] / state.mass;
-  }
-  double inertia[3][3] = {};
-  for (int p = b.first; p < b.first + b.count; ++p) {
-    const double m = s->mass(p);
-    const Vec3 psi = s->momentum(p);
-    Vec3 r;
-    for (int a = 0; a < 3; ++a) r[a] = s->position(p)[a] - state.centre_of_mass[a];
-    state.angular_momentum[0] += r[1] * psi[2] - r[2] * psi[1];
-    state.angular_momentum[1] += r[2] * psi[0] - r[0] * psi[2];
-    state.angular_momentum[2] += r[0] * psi[1] - r[1] * psi[0];
-    const double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) inertia[i][j] += m * ((i == j ? r2 : 0.0) - r[i] * r[j]);
-  }
-  if (s->dimension() == 2) {
-    if (inertia[2][2] > 0) state.angular_velocity[2] = state.angular_momentum[2] / inertia[2][2];
-    state.orientation = s->best_fit_angle(body);
-  } else {
-    state.angular_velocity = solve_3x3(inertia, state.angular_momentum);
-  }
-  return state;
+  return measure_body(*s, body);
 }
 
 Vec3 Simulation::particle_velocity(int p) const {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "fluid/fluid_lattice.h"
+#include "scene/body_state.h"
 #include "scene/instability_error.h"
 #include "scene/scene.h"
 #include "scene/stage_clock.h"
@@ -21,17 +22,6 @@
 namespace lbsolid::scene {
 
 using Vec3 = fluid::Vec3;
-
-struct BodyState {
-  Vec3 centre_of_mass{0, 0, 0};  // mass-weighted mean position
-  Vec3 velocity{0, 0, 0};        // total momentum / total mass
-  double mass = 0;
-  Vec3 angular_momentum{0, 0, 0};  // sum of (r - centre of mass) x Psi
-  // The inertia tensor about the centre of mass (sum of M (|r|^2 1 - r r^T)) solved for the angular
-  // momentum; 2D: L_z / I_zz. Zero where the tensor is singular (a straight 3D chain).
-  Vec3 angular_velocity{0, 0, 0};
-  double orientation = 0;  // 2D: the best-fit angle of the shape from its rest shape, (-pi, pi]; 3D: 0 (see solid::Body::frame)
-};
 
 struct Totals {
   double fluid_mass = 0;

@@ -73,9 +73,21 @@ class SolidSystem {
   // its own position and the one outgoing slot of each of its links, so the result is the same
   // bit for bit.
   template <class Force>
-  void step(const Force& force, parallel::ThreadPool* pool = nullptr, int parts = 1);
+  void step(const Force& force, parallel::ThreadPool* pool = nullptr, int parts = 1) {
+    stream(force, pool, parts);
+    turn_frames();
+  }
   void step(const std::vector<Vec3>& force, parallel::ThreadPool* pool = nullptr, int parts = 1) {
     step([&force](int p) -> const Vec3& { return force[p]; }, pool, parts);
+  }
+  // A step's two halves, for a caller that runs them as separate stages: eqs. 6-7 with the springs'
+  // frames as they are, then the rotating bodies' frames turned to their best fit (above).
+  template <class Force>
+  void stream(const Force& force, parallel::ThreadPool* pool = nullptr, int parts = 1);
+  void turn_frames() {
+    if (any_rotates_)
+      for (int b = 0; b < body_count(); ++b)
+        if (bodies_[b].rotates) co_rotate(b);
   }
 
   const SolidTopology& topology() const { return topology_; }
@@ -153,7 +165,7 @@ void SolidSystem::for_parts(parallel::ThreadPool* pool, int parts, const Range& 
 }
 
 template <class Force>
-void SolidSystem::step(const Force& force, parallel::ThreadPool* pool, int parts) {
+void SolidSystem::stream(const Force& force, parallel::ThreadPool* pool, int parts) {
   const bool cubic = links_ == 6;
   for_parts(pool, parts, [&](int first, int end) {
     cubic ? advance<6>(force, first, end) : advance<4>(force, first, end);
@@ -162,9 +174,6 @@ void SolidSystem::step(const Force& force, parallel::ThreadPool* pool, int parts
   for_parts(pool, parts, [&](int first, int end) {
     cubic ? update_momentum<6>(first, end) : update_momentum<4>(first, end);
   });
-  if (any_rotates_)
-    for (int b = 0; b < body_count(); ++b)
-      if (bodies_[b].rotates) co_rotate(b);
 }
 
 // Eq. 7 and the wave rule for particles [first, end): positions, and the vectors each sends.

@@ -1,0 +1,23 @@
+#pragma once
+// What a body does as a whole, computed from its particles on request.
+#include "solid/solid_system.h"
+
+namespace lbsolid::scene {
+
+using Vec3 = solid::Vec3;
+
+struct BodyState {
+  Vec3 centre_of_mass{0, 0, 0};  // mass-weighted mean position
+  Vec3 velocity{0, 0, 0};        // total momentum / total mass
+  double mass = 0;
+  Vec3 angular_momentum{0, 0, 0};  // sum of (r - centre of mass) x Psi
+  // The inertia tensor about the centre of mass (sum of M (|r|^2 1 - r r^T)) solved for the angular
+  // momentum; 2D: L_z / I_zz. Zero where the tensor is singular (a straight 3D chain).
+  Vec3 angular_velocity{0, 0, 0};
+  double orientation = 0;  // 2D: the best-fit angle of the shape from its rest shape, (-pi, pi]; 3D: 0 (see solid::Body::frame)
+};
+
+// Body `body` of `solid` (a valid index).
+BodyState measure_body(const solid::SolidSystem& solid, int body);
+
+}  // namespace lbsolid::scene

@@ -1,0 +1,77 @@
+#pragma once
+// The solid's step (MODEL.md eqs. 6-7) with the forces the scene has: the bodies' loads, the
+// exchange's reaction -dP, then wall contact, which needs every other force. Each force is summed
+// as the solid's step reaches its particle, in one pass; which forces exist is fixed when the
+// stage is built (make_solid_stage), so a scene runs no code for a force it lacks.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "parallel/thread_pool.h"
+#include "scene/scene.h"
+#include "scene/stages/coupling_state.h"
+#include "scene/step_stage.h"
+#include "solid/wall_contact.h"
+
+namespace lbsolid::scene {
+
+template <int D, bool kLoads, bool kExchange, bool kContact>
+class SolidStage final : public StepStage {
+ public:
+  SolidStage(const Scene& scene, solid::SolidSystem& solid, const CouplingState* coupling,
+             const solid::ContactWalls& walls, parallel::ThreadPool& pool)
+      : scene_(scene), solid_(solid), coupling_(coupling), walls_(walls), pool_(pool) {}
+
+  std::vector<std::string> names() const override {
+    std::vector<std::string> n;
+    if (kLoads) n.push_back("loads");
+    if (kContact) n.push_back("contact");
+    n.push_back("solid");
+    return n;
+  }
+
+  void run(StageClock& clock) override {
+    const solid::ParticleVectors momenta = solid_.momenta();
+    const auto force = [&](int p) {
+      solid::Vec3 f = kLoads ? solid_.body(solid_.body_of(p)).load : solid::Vec3{0, 0, 0};
+      if constexpr (kExchange) {
+        const solid::Vec3 compared = coupling_->rotating
+                                         ? solid::ParticleVectors{coupling_->momenta_at_nodes.data(), D}.get<D>(p)
+                                         : momenta.get<D>(p);
+        const solid::Vec3 dp = coupling_->exchange.particle_dp(p, compared, solid_.mass(p));
+        for (int a = 0; a < 3; ++a) f[a] -= dp[a];
+      }
+      if constexpr (kContact) solid::add_wall_contact(walls_, solid_, p, f);
+      return f;
+    };
+    solid_.stream(force, &pool_, scene_.fluid.threads);
+    clock.lap(Stage::kSolid);
+  }
+
+ private:
+  const Scene& scene_;
+  solid::SolidSystem& solid_;
+  const CouplingState* coupling_;
+  const solid::ContactWalls& walls_;
+  parallel::ThreadPool& pool_;
+};
+
+// The solid stage for the forces present: loads, the exchange (`coupling` not null), contact.
+template <int D>
+std::unique_ptr<StepStage> make_solid_stage(bool loads, bool contact, const Scene& scene, solid::SolidSystem& solid,
+                                            const CouplingState* coupling, const solid::ContactWalls& walls,
+                                            parallel::ThreadPool& pool) {
+  auto make = [&]<bool kLoads, bool kExchange, bool kContact>() -> std::unique_ptr<StepStage> {
+    return std::make_unique<SolidStage<D, kLoads, kExchange, kContact>>(scene, solid, coupling, walls, pool);
+  };
+  auto with_contact = [&]<bool kLoads, bool kExchange>() {
+    return contact ? make.template operator()<kLoads, kExchange, true>()
+                   : make.template operator()<kLoads, kExchange, false>();
+  };
+  auto with_exchange = [&]<bool kLoads>() {
+    return coupling ? with_contact.template operator()<kLoads, true>() : with_contact.template operator()<kLoads, false>();
+  };
+  return loads ? with_exchange.template operator()<true>() : with_exchange.template operator()<false>();
+}
+
+}  // namespace lbsolid::scene
