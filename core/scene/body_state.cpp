@@ -60,6 +60,7 @@ BodyState measure_body(const solid::SolidSystem& solid, int body) {
   } else {
     state.angular_velocity = solve_3x3(inertia, state.angular_momentum);
   }
+  state.orientation_quaternion = s->best_fit_quaternion(body);
   return state;
 }
 

@@ -14,7 +14,10 @@ struct BodyState {
   // The inertia tensor about the centre of mass (sum of M (|r|^2 1 - r r^T)) solved for the angular
   // momentum; 2D: L_z / I_zz. Zero where the tensor is singular (a straight 3D chain).
   Vec3 angular_velocity{0, 0, 0};
-  double orientation = 0;  // 2D: the best-fit angle of the shape from its rest shape, (-pi, pi]; 3D: 0 (see solid::Body::frame)
+  double orientation = 0;  // 2D: the best-fit angle of the shape from its rest shape, (-pi, pi]; 3D: 0
+  // The best-fit rotation of the shape from its rest shape (SolidSystem::best_fit_quaternion), in
+  // 2D and 3D; a straight 3D chain's turn about its own axis is undetermined.
+  solid::Quaternion orientation_quaternion{1, 0, 0, 0};
 };
 
 // Body `body` of `solid` (a valid index).

@@ -85,6 +85,15 @@ Rotation SolidSystem::best_fit_rotation(int b) const {
     const double c = std::cos(angle), s = std::sin(angle);
     return {{{c, -s, 0}, {s, c, 0}, {0, 0, 1}}};
   }
+  const Quaternion q = best_fit_quaternion(b);
+  return rotation_of(q[0], q[1], q[2], q[3]);
+}
+
+Quaternion SolidSystem::best_fit_quaternion(int b) const {
+  if (dimension() == 2) {
+    const double half = 0.5 * best_fit_angle(b);  // in (-pi/2, pi/2]: w = cos(half) >= 0
+    return {std::cos(half), 0, 0, std::sin(half)};
+  }
   // Horn (1987): with S_ij = sum over links of (rest link)_i (current link)_j, the quaternion of
   // the best rotation is the top eigenvector of N(S). The rest links are the unit axes (the
   // spacing scales S as a whole), so S's row k sums the current links along +k.
@@ -104,7 +113,9 @@ Rotation SolidSystem::best_fit_rotation(int b) const {
                                    {yz - zy, xx - yy - zz, xy + yx, zx + xz},
                                    {zx - xz, xy + yx, -xx + yy - zz, yz + zy},
                                    {xy - yx, zx + xz, yz + zy, -xx - yy + zz}}});
-  return rotation_of(q[0], q[1], q[2], q[3]);
+  // q and -q are one rotation (rotation_of is even in q, bit for bit): report the one with w >= 0.
+  if (q[0] >= 0) return q;
+  return {-q[0], -q[1], -q[2], -q[3]};
 }
 
 void SolidSystem::co_rotate(int b) {

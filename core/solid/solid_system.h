@@ -117,6 +117,8 @@ class SolidSystem {
   // axis is left undetermined; it changes no T. 2D: its angle, in (-pi, pi].
   Rotation best_fit_rotation(int b) const;
   double best_fit_angle(int b) const;
+  // The same rotation as a unit quaternion with w >= 0 (2D: about z, half of best_fit_angle).
+  Quaternion best_fit_quaternion(int b) const;
 
 
   Vec3 total_momentum() const;

@@ -9,6 +9,7 @@ namespace lbsolid::solid {
 using Vec3 = std::array<double, 3>;
 using Label = std::array<int, 3>;
 using Rotation = std::array<std::array<double, 3>, 3>;  // rows
+using Quaternion = std::array<double, 4>;              // w, x, y, z: a unit quaternion, w >= 0
 
 struct SolidTopology {
   int dimension;  // 2 or 3

@@ -17,6 +17,7 @@ std::vector<double> per_dimension(const google::protobuf::RepeatedField<double>&
 }
 
 std::array<double, 3> array_of(const lbsolid::v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
+std::array<double, 4> array_of(const lbsolid::v1::Quaternion& q) { return {q.w(), q.x(), q.y(), q.z()}; }
 
 }  // namespace
 
@@ -26,7 +27,7 @@ void append_particle_frame(storage::H5mdWriter& writer, const lbsolid::v1::Parti
                             per_dimension(body.velocity(), dimension));
     writer.append_body(body.name(), frame.step(), array_of(body.centre_of_mass()), array_of(body.mean_velocity()));
     writer.append_rotation(body.name(), frame.step(), array_of(body.angular_momentum()),
-                           array_of(body.angular_velocity()), body.orientation());
+                           array_of(body.angular_velocity()), body.orientation(), array_of(body.orientation_quaternion()));
   }
 }
 

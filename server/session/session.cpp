@@ -487,6 +487,12 @@ v1::ParticleFrame Session::particle_frame(const std::vector<int>& bodies) const 
     *out->mutable_angular_momentum() = to_proto(state.angular_momentum);
     *out->mutable_angular_velocity() = to_proto(state.angular_velocity);
     out->set_orientation(state.orientation);
+    const auto& q = state.orientation_quaternion;
+    auto* quaternion = out->mutable_orientation_quaternion();
+    quaternion->set_w(q[0]);
+    quaternion->set_x(q[1]);
+    quaternion->set_y(q[2]);
+    quaternion->set_z(q[3]);
   }
   return frame;
 }

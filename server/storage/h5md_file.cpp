@@ -237,13 +237,15 @@ void H5mdWriter::append_body(const std::string& body, long step, const std::arra
 }
 
 void H5mdWriter::append_rotation(const std::string& body, long step, const std::array<double, 3>& angular_momentum,
-                                 const std::array<double, 3>& angular_velocity, double orientation) {
+                                 const std::array<double, 3>& angular_velocity, double orientation,
+                                 const std::array<double, 4>& orientation_quaternion) {
   impl_->check_open();
   check_body_name(body);
   h5::with_context(impl_->context(), [&] {
     impl_->append("/observables/" + body + "/angular_momentum", {3}, step, angular_momentum.data());
     impl_->append("/observables/" + body + "/angular_velocity", {3}, step, angular_velocity.data());
     impl_->append("/observables/" + body + "/orientation", {1}, step, &orientation);
+    impl_->append("/observables/" + body + "/orientation_quaternion", {4}, step, orientation_quaternion.data());
   });
 }
 

@@ -60,7 +60,7 @@ def reference_run(steps, profiles_every=0, particles_every=0, fields=False):
                 "centre_of_mass": v[6 * n:6 * n + 3], "mean_velocity": v[6 * n + 3:6 * n + 6],
                 "mass": v[6 * n + 6], "energy": v[6 * n + 7],
                 "angular_momentum": v[6 * n + 8:6 * n + 11], "angular_velocity": v[6 * n + 11:6 * n + 14],
-                "orientation": v[6 * n + 14]}
+                "orientation": v[6 * n + 14], "orientation_quaternion": v[6 * n + 15:6 * n + 19]}
         elif words[0] == "field":
             field_values[words[1]] = (int(words[2]), hex_values(words[4:]))
     return profiles, bodies, field_values
@@ -173,7 +173,7 @@ class PythonClientMatchesCore(unittest.TestCase):
         for frame in record.particles:
             for name, body in frame.bodies.items():
                 for quantity in ("position", "velocity", "centre_of_mass", "mean_velocity", "angular_momentum",
-                                 "angular_velocity", "orientation"):
+                                 "angular_velocity", "orientation", "orientation_quaternion"):
                     self.assertTrue(bit_equal(getattr(body, quantity), expected_bodies[frame.step][name][quantity]),
                                     f"step {frame.step} body {name} {quantity}")
         listed = {f.name: f for f in session.outputs()}

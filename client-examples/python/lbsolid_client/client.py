@@ -84,6 +84,7 @@ class Body:
     angular_momentum: np.ndarray = None  # (3,), about the centre of mass
     angular_velocity: np.ndarray = None  # (3,), the inertia tensor solved for it (2D: along z)
     orientation: float = float("nan")    # 2D: radians, the best-fit turn from the rest shape
+    orientation_quaternion: np.ndarray = None  # (4,) w, x, y, z: the same turn, 2D and 3D, w >= 0
 
 
 @dataclass
@@ -113,7 +114,7 @@ class Recording:
 
     def body_series(self, body: str, quantity: str):
         """(steps, values) of one body quantity (centre_of_mass, mean_velocity, mass, energy,
-        angular_momentum, angular_velocity, orientation)."""
+        angular_momentum, angular_velocity, orientation, orientation_quaternion)."""
         steps = np.array([f.step for f in self.particles], dtype=np.int64)
         return steps, np.array([getattr(f.bodies[body], quantity) for f in self.particles])
 
@@ -133,7 +134,9 @@ def particles_from_proto(frame) -> Particles:
                               np.array(b.position, dtype=np.float64).reshape(-1, 3),
                               np.array(b.velocity, dtype=np.float64).reshape(-1, 3),
                               _vector(b.centre_of_mass), _vector(b.mean_velocity), b.mass, b.energy,
-                              _vector(b.angular_momentum), _vector(b.angular_velocity), b.orientation)
+                              _vector(b.angular_momentum), _vector(b.angular_velocity), b.orientation,
+                              np.array([b.orientation_quaternion.w, b.orientation_quaternion.x,
+                                        b.orientation_quaternion.y, b.orientation_quaternion.z], dtype=np.float64))
     return Particles(frame.step, bodies)
 
 
