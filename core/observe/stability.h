@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "observe/stability_limits.h"
+#include "parallel/thread_pool.h"
 #include "scene/simulation.h"
 
 namespace lbsolid::observe {
@@ -20,6 +21,8 @@ namespace lbsolid::observe {
 //   "Mach number 0.62 (limit 0.5) at node (x, y, z)"                 (the fastest node)
 //   "non-finite position of particle 7 of body disk" / "non-finite momentum of ..."
 // The band's ends are shown as densities: limits.min_density and max_density times rho0.
-std::string find_instability(const scene::Simulation& simulation, const StabilityLimits& limits);
+// With a pool, the fluid's nodes are scanned in `parts` ranges on it; the answer is the same.
+std::string find_instability(const scene::Simulation& simulation, const StabilityLimits& limits,
+                             parallel::ThreadPool* pool = nullptr, int parts = 1);
 
 }  // namespace lbsolid::observe

@@ -66,7 +66,8 @@ class SimulationImpl final : public Simulation {
     // After the step is complete, so a throw leaves a consistent state at step N to read or save.
     const int every = scene_.monitor.interval;
     if (every > 0 && steps_ % every == 0) {
-      const std::string problem = observe::find_instability(*this, scene_.monitor.limits);
+      const std::string problem =
+          observe::find_instability(*this, scene_.monitor.limits, pool_.get(), scene_.fluid.threads);
       clock_.lap(Stage::kMonitor);
       if (!problem.empty()) throw InstabilityError(steps_, problem);
     }

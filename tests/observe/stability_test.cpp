@@ -81,6 +81,42 @@ TEST(StabilityMonitor, NamesADensityOutsideTheBand) {
   EXPECT_NE(problem.find(" outside [1.998, 2.002] at node ("), std::string::npos) << problem;
 }
 
+// The monitor scans the fluid in parts on the session's threads; its answer must be the one scan
+// in node order gives, ties included: a uniform Mach number (every node ties, the first is named),
+// a density band (the node furthest out), two non-finite nodes in different parts (the first).
+TEST(StabilityMonitor, ThePartsDoNotChangeTheAnswer) {
+  parallel::ThreadPool pool(3);
+  const auto same_in_parts = [&](const scene::Simulation& sim, const StabilityLimits& limits) {
+    const std::string one = find_instability(sim, limits);
+    EXPECT_FALSE(one.empty());  // each case below has a problem to find
+    for (int parts : {2, 3, 7, 100}) EXPECT_EQ(find_instability(sim, limits, &pool, parts), one) << parts << " parts";
+    return one;
+  };
+  auto driven = scene::build_simulation(driven_box(1e-3));
+  driven->run(400);  // Mach 0.693 at every node
+  EXPECT_NE(same_in_parts(*driven, {0.5}).find("at node (0, 0, 0)"), std::string::npos);
+
+  scene::Scene s = driven_box(0);
+  s.fluid.nx = 24;
+  s.fluid.ny = 16;
+  for (int side = 0; side < 4; ++side) s.fluid.sides[side].kind = fluid::WallKind::kBounceBack;
+  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kMovingWall;
+  s.fluid.sides[fluid::kYHigh].wall_velocity = {0.1, 0, 0};
+  auto pumped = scene::build_simulation(s);
+  pumped->run(50);
+  StabilityLimits tight;
+  tight.min_density = 0.999;
+  tight.max_density = 1.001;
+  EXPECT_EQ(same_in_parts(*pumped, tight).rfind("density ", 0), 0u);
+
+  scene::SimulationState state = pumped->save_state();
+  const long cells = 24 * 16;
+  state.fluid.populations[cells + 300] = std::nan("");  // population 1 of node 300 = (12, 12, 0)
+  state.fluid.populations[2 * cells + 100] = std::nan("");  // population 2 of node 100 = (4, 4, 0)
+  pumped->load_state(state);
+  EXPECT_EQ(same_in_parts(*pumped, {}).rfind("non-finite ", 0), 0u);
+}
+
 TEST(StabilityMonitor, DefaultsAndDisabledBand) {
   const StabilityLimits limits;
   EXPECT_EQ(limits.max_mach, 0.5);
