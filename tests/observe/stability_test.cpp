@@ -18,6 +18,17 @@ scene::Scene driven_box(double force) {
   return s;
 }
 
+// A closed box whose y_high wall moves: it compresses one corner.
+scene::Scene pumped_box(int nx, int ny) {
+  scene::Scene s = driven_box(0);
+  s.fluid.nx = nx;
+  s.fluid.ny = ny;
+  for (int side = 0; side < 4; ++side) s.fluid.sides[side].kind = fluid::WallKind::kBounceBack;
+  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kMovingWall;
+  s.fluid.sides[fluid::kYHigh].wall_velocity = {0.1, 0, 0};
+  return s;
+}
+
 TEST(StabilityMonitor, QuietWhileTheFlowIsSlow) {
   auto sim = scene::build_simulation(driven_box(1e-5));
   sim->run(100);
@@ -65,11 +76,8 @@ TEST(StabilityMonitor, NamesANonFiniteParticle) {
 // The density band is relative to rho0, shown as densities, and names the node furthest out. A
 // moving wall pumping a closed box compresses one corner; a band tight enough catches it.
 TEST(StabilityMonitor, NamesADensityOutsideTheBand) {
-  scene::Scene s = driven_box(0);
+  scene::Scene s = pumped_box(8, 8);
   s.fluid.rho0 = 2.0;
-  for (int side = 0; side < 4; ++side) s.fluid.sides[side].kind = fluid::WallKind::kBounceBack;
-  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kMovingWall;
-  s.fluid.sides[fluid::kYHigh].wall_velocity = {0.1, 0, 0};
   auto sim = scene::build_simulation(s);
   sim->run(50);
   EXPECT_EQ(find_instability(*sim, {}), "");  // default band [1, 4] at rho0 = 2
@@ -96,13 +104,7 @@ TEST(StabilityMonitor, ThePartsDoNotChangeTheAnswer) {
   driven->run(400);  // Mach 0.693 at every node
   EXPECT_NE(same_in_parts(*driven, {0.5}).find("at node (0, 0, 0)"), std::string::npos);
 
-  scene::Scene s = driven_box(0);
-  s.fluid.nx = 24;
-  s.fluid.ny = 16;
-  for (int side = 0; side < 4; ++side) s.fluid.sides[side].kind = fluid::WallKind::kBounceBack;
-  s.fluid.sides[fluid::kYHigh].kind = fluid::WallKind::kMovingWall;
-  s.fluid.sides[fluid::kYHigh].wall_velocity = {0.1, 0, 0};
-  auto pumped = scene::build_simulation(s);
+  auto pumped = scene::build_simulation(pumped_box(24, 16));
   pumped->run(50);
   StabilityLimits tight;
   tight.min_density = 0.999;
