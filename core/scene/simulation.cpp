@@ -56,7 +56,7 @@ class SimulationImpl final : public Simulation {
     if (fluid_) stages_.push_back(std::make_unique<FluidStage<L, T>>(*fluid_, coupling_.get(), *pool_));
     if (solid_)
       stages_.push_back(make_solid_stage<L::D>(loads, walls_.any(), scene_, *solid_, coupling_.get(), walls_, *pool_));
-    if (rotating) stages_.push_back(std::make_unique<RotationStage>(*solid_));  // after the solid's update
+    if (rotating) stages_.push_back(std::make_unique<RotationStage>(scene_, *solid_, *pool_));  // after the solid's update
   }
 
   void step() override {

@@ -75,19 +75,24 @@ class SolidSystem {
   template <class Force>
   void step(const Force& force, parallel::ThreadPool* pool = nullptr, int parts = 1) {
     stream(force, pool, parts);
-    turn_frames();
+    turn_frames(pool, parts);
   }
   void step(const std::vector<Vec3>& force, parallel::ThreadPool* pool = nullptr, int parts = 1) {
     step([&force](int p) -> const Vec3& { return force[p]; }, pool, parts);
   }
   // A step's two halves, for a caller that runs them as separate stages: eqs. 6-7 with the springs'
-  // frames as they are, then the rotating bodies' frames turned to their best fit (above).
+  // frames as they are, then the rotating bodies' frames turned to their best fit (above). With a
+  // pool, the bodies are cut into `parts` ranges: a body's turn touches only its own particles.
   template <class Force>
   void stream(const Force& force, parallel::ThreadPool* pool = nullptr, int parts = 1);
-  void turn_frames() {
-    if (any_rotates_)
-      for (int b = 0; b < body_count(); ++b)
-        if (bodies_[b].rotates) co_rotate(b);
+  void turn_frames(parallel::ThreadPool* pool = nullptr, int parts = 1) {
+    if (!any_rotates_) return;
+    const auto turn = [&](long first, long end) {
+      for (long b = first; b < end; ++b)
+        if (bodies_[b].rotates) co_rotate(static_cast<int>(b));
+    };
+    if (pool && parts > 1 && body_count() > 1) pool->parallel_for(body_count(), parts, turn);
+    else turn(0, body_count());
   }
 
   const SolidTopology& topology() const { return topology_; }

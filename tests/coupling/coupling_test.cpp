@@ -221,7 +221,7 @@ TEST(CoupledMomentum, ConservedInPeriodicBoxD3Q19) { check_coupled_momentum(scen
 // momentum (and the density and velocity fields, read in parts as well) is compared, after an
 // even number of steps and an odd one (the in-place scheme stores
 // populations differently on the two), on D2Q7 with walls (contact), on D2Q9 with four particles
-// a node (spacing 1/2: nodes with several particles) and on D3Q19.
+// a node (spacing 1/2: nodes with several particles), on D3Q19, and with rotating bodies.
 void expect_same_run_with_threads(scene::Scene s) {
   struct Run {
     scene::SimulationState state;
@@ -279,6 +279,25 @@ TEST(CoupledMomentum, ThreadCountDoesNotChangeACoupledRun) {
   sphere.load = {1e-4, 0, 2e-5};
   ball.bodies.push_back(sphere);
   expect_same_run_with_threads(ball);
+
+  // Rotating bodies: their frames turn, and their node momenta are worked out, body by body in
+  // parts. Three chains and a disk, spinning, in the D2Q7 box with walls.
+  scene::Scene turning;
+  turning.lattice = scene::LatticeKind::kD2Q7;
+  turning.fluid = box(24, 16, 1, true);
+  for (int c = 0; c < 3; ++c) {
+    solid::BodySpec chain;
+    chain.shape = solid::BodyShape::kChain;
+    chain.length = 5;
+    chain.centre = {5.0 + 6 * c, 10.5, 0};
+    chain.angular_velocity = {0, 0, 0.01 * (c + 1)};
+    chain.rotation = true;
+    turning.bodies.push_back(chain);
+  }
+  disk.rotation = true;
+  disk.angular_velocity = {0, 0, -0.01};
+  turning.bodies.push_back(disk);
+  expect_same_run_with_threads(turning);
 }
 
 // Dense packing, 4 particles per node: the common-velocity exchange stays bounded (it only ever

@@ -52,26 +52,32 @@ class ExchangeStage final : public StepStage {
     at_nodes.assign(momenta.data, momenta.data + static_cast<std::size_t>(solid_.particle_count()) * L::D);
     const double period[3] = {static_cast<double>(scene_.fluid.nx), scene_.fluid.ny * L::row_spacing,
                               static_cast<double>(scene_.fluid.nz)};
-    for (int b = 0; b < solid_.body_count(); ++b) {
-      const auto& body = solid_.body(b);
-      if (!body.rotates) continue;
-      const Vec3 w = measure_body(solid_, b).angular_velocity;
-      for (int p = body.first; p < body.first + body.count; ++p) {
-        const auto& node = coupling_.node[p];
-        const Vec3 at = fluid::FluidLattice<L, T>::position(node[0], node[1], node[2]);
-        const Vec3 r = solid_.position(p);
-        Vec3 d{0, 0, 0};
-        for (int a = 0; a < L::D; ++a) {
-          d[a] = at[a] - r[a];
-          d[a] -= period[a] * std::round(d[a] / period[a]);  // the node across a periodic side
+    // Each body adds its spin to its own particles' entries only: bodies in parts.
+    const auto add_spin = [&](long first_body, long end_body) {
+      for (int b = static_cast<int>(first_body); b < end_body; ++b) {
+        const auto& body = solid_.body(b);
+        if (!body.rotates) continue;
+        const Vec3 w = measure_body(solid_, b).angular_velocity;
+        for (int p = body.first; p < body.first + body.count; ++p) {
+          const auto& node = coupling_.node[p];
+          const Vec3 at = fluid::FluidLattice<L, T>::position(node[0], node[1], node[2]);
+          const Vec3 r = solid_.position(p);
+          Vec3 d{0, 0, 0};
+          for (int a = 0; a < L::D; ++a) {
+            d[a] = at[a] - r[a];
+            d[a] -= period[a] * std::round(d[a] / period[a]);  // the node across a periodic side
+          }
+          const double m = solid_.mass(p);
+          double* at_node = &at_nodes[static_cast<std::size_t>(p) * L::D];
+          at_node[0] += m * (w[1] * d[2] - w[2] * d[1]);
+          at_node[1] += m * (w[2] * d[0] - w[0] * d[2]);
+          if constexpr (L::D == 3) at_node[2] += m * (w[0] * d[1] - w[1] * d[0]);
         }
-        const double m = solid_.mass(p);
-        double* at_node = &at_nodes[static_cast<std::size_t>(p) * L::D];
-        at_node[0] += m * (w[1] * d[2] - w[2] * d[1]);
-        at_node[1] += m * (w[2] * d[0] - w[0] * d[2]);
-        if constexpr (L::D == 3) at_node[2] += m * (w[0] * d[1] - w[1] * d[0]);
       }
-    }
+    };
+    const int parts = scene_.fluid.threads;
+    if (parts > 1 && solid_.body_count() > 1) pool_.parallel_for(solid_.body_count(), parts, add_spin);
+    else add_spin(0, solid_.body_count());
     return {at_nodes.data(), L::D};
   }
 

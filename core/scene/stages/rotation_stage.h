@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "parallel/thread_pool.h"
+#include "scene/scene.h"
 #include "scene/step_stage.h"
 #include "solid/solid_system.h"
 
@@ -12,15 +14,18 @@ namespace lbsolid::scene {
 
 class RotationStage final : public StepStage {
  public:
-  explicit RotationStage(solid::SolidSystem& solid) : solid_(solid) {}
+  RotationStage(const Scene& scene, solid::SolidSystem& solid, parallel::ThreadPool& pool)
+      : scene_(scene), solid_(solid), pool_(pool) {}
   std::vector<std::string> names() const override { return {"rotation"}; }
   void run(StageClock& clock) override {
-    solid_.turn_frames();
+    solid_.turn_frames(&pool_, scene_.fluid.threads);
     clock.lap(Stage::kSolid);
   }
 
  private:
+  const Scene& scene_;
   solid::SolidSystem& solid_;
+  parallel::ThreadPool& pool_;
 };
 
 }  // namespace lbsolid::scene
