@@ -200,6 +200,7 @@ std::string particle_frame_json(const lbsolid::v1::ParticleFrame& f) {
                          .raw("orientation_quaternion", json_array(std::vector<double>{
                                                             b.orientation_quaternion().w(), b.orientation_quaternion().x(),
                                                             b.orientation_quaternion().y(), b.orientation_quaternion().z()}))
+                         .raw("torque", vector_json(b.torque()))
                          .raw("position", json_array(std::vector<double>(b.position().begin(), b.position().end())))
                          .raw("velocity", json_array(std::vector<double>(b.velocity().begin(), b.velocity().end())))
                          .str());

@@ -18,6 +18,11 @@ struct BodyState {
   // The best-fit rotation of the shape from its rest shape (SolidSystem::best_fit_quaternion), in
   // 2D and 3D; a straight 3D chain's turn about its own axis is undetermined.
   solid::Quaternion orientation_quaternion{1, 0, 0, 0};
+  // In scenes with a rotating body, for every body: the torque about its centre of mass that the
+  // external forces (loads, the fluid's exchange, wall contact) exerted in the last step
+  // (scene/stages/torque_record.h). Zero in other scenes, and before the first step a simulation
+  // takes (also right after a restore). Simulation::body_state fills it; measure_body cannot.
+  Vec3 torque{0, 0, 0};
 };
 
 // Body `body` of `solid` (a valid index).

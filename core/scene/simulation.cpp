@@ -14,6 +14,7 @@
 #include "scene/stages/fluid_stage.h"
 #include "scene/stages/rotation_stage.h"
 #include "scene/stages/solid_stage.h"
+#include "scene/stages/torque_record.h"
 #include "solid/wall_contact.h"
 
 namespace lbsolid::scene {
@@ -41,6 +42,7 @@ class SimulationImpl final : public Simulation {
         rotating = rotating || spec.rotation;
       }
       if (fluid_) coupling_ = std::make_unique<CouplingState>(scene, solid_->particle_count(), rotating);
+      if (rotating) torque_ = std::make_unique<TorqueRecord>(solid_->particle_count(), solid_->body_count());
       if (scene.contact.enabled) {
         walls_.restitution = scene.contact.restitution;
         for (int side = 0; side < 2 * L::D; ++side) {
@@ -55,7 +57,8 @@ class SimulationImpl final : public Simulation {
           std::make_unique<ExchangeStage<L, T>>(scene_, locator_, *fluid_, *solid_, *coupling_, *pool_));
     if (fluid_) stages_.push_back(std::make_unique<FluidStage<L, T>>(*fluid_, coupling_.get(), *pool_));
     if (solid_)
-      stages_.push_back(make_solid_stage<L::D>(loads, walls_.any(), scene_, *solid_, coupling_.get(), walls_, *pool_));
+      stages_.push_back(
+          make_solid_stage<L::D>(loads, walls_.any(), scene_, *solid_, coupling_.get(), walls_, torque_.get(), *pool_));
     if (rotating) stages_.push_back(std::make_unique<RotationStage>(scene_, *solid_, *pool_));  // after the solid's update
   }
 
@@ -79,6 +82,9 @@ class SimulationImpl final : public Simulation {
   const Scene& scene() const override { return scene_; }
   bool has_fluid() const override { return fluid_ != nullptr; }
   const solid::SolidSystem* solid() const override { return solid_.get(); }
+  Vec3 last_torque(int body, const BodyState& now) const override {
+    return torque_ ? torque_->torque(body, now) : Vec3{0, 0, 0};
+  }
 
   std::vector<std::string> stages() const override {
     std::vector<std::string> names;
@@ -90,7 +96,8 @@ class SimulationImpl final : public Simulation {
   std::size_t fluid_bytes() const override { return fluid_ ? fluid_->bytes_allocated() : 0; }
   std::size_t solid_bytes() const override {
     if (!solid_) return 0;
-    return solid_->bytes_allocated() + (coupling_ ? coupling_->bytes_allocated() : 0);
+    return solid_->bytes_allocated() + (coupling_ ? coupling_->bytes_allocated() : 0) +
+           (torque_ ? torque_->bytes_allocated() : 0);
   }
 
   std::vector<double> velocity_profile() const override {
@@ -199,6 +206,7 @@ class SimulationImpl final : public Simulation {
   std::unique_ptr<fluid::FluidLattice<L, T>> fluid_;
   std::unique_ptr<solid::SolidSystem> solid_;
   std::unique_ptr<CouplingState> coupling_;  // with fluid and bodies
+  std::unique_ptr<TorqueRecord> torque_;     // with a rotating body
   solid::ContactWalls walls_;
   std::vector<std::unique_ptr<StepStage>> stages_;
   long steps_ = 0;
@@ -232,7 +240,9 @@ BodyState Simulation::body_state(int body) const {
   const auto* s = solid();
   if (!s || body < 0 || body >= s->body_count())
     throw std::out_of_range("body: no body " + std::to_string(body) + " in this scene");
-  return measure_body(*s, body);
+  BodyState state = measure_body(*s, body);
+  state.torque = last_torque(body, state);
+  return state;
 }
 
 Vec3 Simulation::particle_velocity(int p) const {

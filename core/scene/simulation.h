@@ -101,6 +101,10 @@ class Simulation {
   virtual SimulationState save_state() const = 0;
   // Throws std::invalid_argument naming what does not match this simulation's scene.
   virtual void load_state(const SimulationState& state) = 0;
+
+ protected:
+  // BodyState::torque of `body` whose state is now `now` (stages/torque_record.h).
+  virtual Vec3 last_torque(int body, const BodyState& now) const = 0;
 };
 
 // Throws std::invalid_argument listing every problem (validate_scene) if the scene cannot run.

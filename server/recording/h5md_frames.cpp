@@ -27,7 +27,8 @@ void append_particle_frame(storage::H5mdWriter& writer, const lbsolid::v1::Parti
                             per_dimension(body.velocity(), dimension));
     writer.append_body(body.name(), frame.step(), array_of(body.centre_of_mass()), array_of(body.mean_velocity()));
     writer.append_rotation(body.name(), frame.step(), array_of(body.angular_momentum()),
-                           array_of(body.angular_velocity()), body.orientation(), array_of(body.orientation_quaternion()));
+                           array_of(body.angular_velocity()), body.orientation(), array_of(body.orientation_quaternion()),
+                           array_of(body.torque()));
   }
 }
 

@@ -493,6 +493,7 @@ v1::ParticleFrame Session::particle_frame(const std::vector<int>& bodies) const 
     quaternion->set_x(q[1]);
     quaternion->set_y(q[2]);
     quaternion->set_z(q[3]);
+    *out->mutable_torque() = to_proto(state.torque);
   }
   return frame;
 }

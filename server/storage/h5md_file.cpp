@@ -238,7 +238,8 @@ void H5mdWriter::append_body(const std::string& body, long step, const std::arra
 
 void H5mdWriter::append_rotation(const std::string& body, long step, const std::array<double, 3>& angular_momentum,
                                  const std::array<double, 3>& angular_velocity, double orientation,
-                                 const std::array<double, 4>& orientation_quaternion) {
+                                 const std::array<double, 4>& orientation_quaternion,
+                                 const std::array<double, 3>& torque) {
   impl_->check_open();
   check_body_name(body);
   h5::with_context(impl_->context(), [&] {
@@ -246,6 +247,7 @@ void H5mdWriter::append_rotation(const std::string& body, long step, const std::
     impl_->append("/observables/" + body + "/angular_velocity", {3}, step, angular_velocity.data());
     impl_->append("/observables/" + body + "/orientation", {1}, step, &orientation);
     impl_->append("/observables/" + body + "/orientation_quaternion", {4}, step, orientation_quaternion.data());
+    impl_->append("/observables/" + body + "/torque", {3}, step, torque.data());
   });
 }
 

@@ -40,11 +40,11 @@ class H5mdWriter {
                         const std::vector<double>& velocities);
   void append_body(const std::string& body, long step, const std::array<double, 3>& centre_of_mass,
                    const std::array<double, 3>& velocity);
-  // Angular momentum and velocity as 3-vectors (2D: along z), the orientation one value (radians,
-  // 2D) and as a quaternion (w, x, y, z).
+  // Angular momentum, velocity and the torque as 3-vectors (2D: along z), the orientation one
+  // value (radians, 2D) and as a quaternion (w, x, y, z).
   void append_rotation(const std::string& body, long step, const std::array<double, 3>& angular_momentum,
                        const std::array<double, 3>& angular_velocity, double orientation,
-                       const std::array<double, 4>& orientation_quaternion);
+                       const std::array<double, 4>& orientation_quaternion, const std::array<double, 3>& torque);
   void append_profile(long step, const std::vector<double>& y, const std::vector<double>& u_x);
   void flush();
   void close();  // flushes, closes and renames its .partial-<pid>-<n> file to <path>

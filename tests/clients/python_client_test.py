@@ -60,7 +60,8 @@ def reference_run(steps, profiles_every=0, particles_every=0, fields=False):
                 "centre_of_mass": v[6 * n:6 * n + 3], "mean_velocity": v[6 * n + 3:6 * n + 6],
                 "mass": v[6 * n + 6], "energy": v[6 * n + 7],
                 "angular_momentum": v[6 * n + 8:6 * n + 11], "angular_velocity": v[6 * n + 11:6 * n + 14],
-                "orientation": v[6 * n + 14], "orientation_quaternion": v[6 * n + 15:6 * n + 19]}
+                "orientation": v[6 * n + 14], "orientation_quaternion": v[6 * n + 15:6 * n + 19],
+                "torque": v[6 * n + 19:6 * n + 22]}
         elif words[0] == "field":
             field_values[words[1]] = (int(words[2]), hex_values(words[4:]))
     return profiles, bodies, field_values
@@ -109,6 +110,8 @@ class PythonClientMatchesCore(unittest.TestCase):
         plate_start = record.particles[0].bodies["plate"].centre_of_mass
         plate_end = record.particles[-1].bodies["plate"].centre_of_mass
         self.assertGreater(plate_end[0] - plate_start[0], 0.1)  # it moved 0.33 along its load
+        # The chain is a rotating body: its torque is recorded and not zero once the run steps.
+        self.assertGreater(max(np.abs(f.bodies["chain"].torque).max() for f in record.particles[1:]), 0)
         turned = [f.bodies["chain"].orientation for f in record.particles]
         # The chain turns, its springs with it: first with its spin, then with the shear (-0.13 rad
         # by step 300, the same in every run: the run is deterministic).
@@ -173,7 +176,7 @@ class PythonClientMatchesCore(unittest.TestCase):
         for frame in record.particles:
             for name, body in frame.bodies.items():
                 for quantity in ("position", "velocity", "centre_of_mass", "mean_velocity", "angular_momentum",
-                                 "angular_velocity", "orientation", "orientation_quaternion"):
+                                 "angular_velocity", "orientation", "orientation_quaternion", "torque"):
                     self.assertTrue(bit_equal(getattr(body, quantity), expected_bodies[frame.step][name][quantity]),
                                     f"step {frame.step} body {name} {quantity}")
         listed = {f.name: f for f in session.outputs()}

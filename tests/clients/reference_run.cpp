@@ -8,7 +8,7 @@
 // float.fromhex and Go's strconv.ParseFloat):
 //   profile STEP NY y[NY] u_x[NY]                                   (ProfileFrame)
 //   body STEP NAME N position[3N] velocity[3N] com[3] mean_velocity[3] mass energy
-//        angular_momentum[3] angular_velocity[3] orientation orientation_quaternion[4]  (BodyFrame)
+//        angular_momentum[3] angular_velocity[3] orientation orientation_quaternion[4] torque[3]  (BodyFrame)
 //   field NAME STEP COUNT values[COUNT]                              (GetField, after the last step)
 // Frames are printed at step 0 and at every multiple of K up to N, as a lossless stream sends them.
 #include <cmath>
@@ -68,6 +68,7 @@ void print_bodies(const Simulation& sim) {
     print_values({state.angular_velocity[0], state.angular_velocity[1], state.angular_velocity[2], state.orientation});
     const auto& q = state.orientation_quaternion;
     print_values({q[0], q[1], q[2], q[3]});
+    print_values({state.torque[0], state.torque[1], state.torque[2]});
     std::printf("\n");
   }
 }

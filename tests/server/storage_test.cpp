@@ -713,7 +713,8 @@ void write_sample_trajectory(H5mdWriter& writer) {
       }
     writer.append_particles("disk", 100 * f, positions, velocities);
     writer.append_body("disk", 100 * f, {1.5 + f, 2.5, 0}, {0.125, -0.25 * f, 0});
-    writer.append_rotation("disk", 100 * f, {0, 0, 2.0 * f}, {0, 0, -0.5 * f}, 0.25 * f, {1.0 - f, 0, 0, 0.5 * f});
+    writer.append_rotation("disk", 100 * f, {0, 0, 2.0 * f}, {0, 0, -0.5 * f}, 0.25 * f, {1.0 - f, 0, 0, 0.5 * f},
+                           {0, 0, 0.125 * f});
     writer.append_profile(100 * f, {0, 1, 2, 3}, {0.0, 0.1 * f, 0.2 * f, 0.0});
   }
 }
@@ -784,6 +785,7 @@ TEST(H5mdFile, SeriesReadBackExactly) {
   const H5mdSeries quaternion = read_h5md_series(path, "/observables/disk/orientation_quaternion");
   EXPECT_EQ(quaternion.value_shape, (std::vector<long>{4}));
   EXPECT_EQ(quaternion.value, (std::vector<double>{1, 0, 0, 0, 0, 0, 0, 0.5, -1, 0, 0, 1}));
+  EXPECT_EQ(read_h5md_series(path, "/observables/disk/torque").value, (std::vector<double>{0, 0, 0, 0, 0, 0.125, 0, 0, 0.25}));
   const std::string message = thrown_message([&] { read_h5md_series(path, "/observables/none"); });
   EXPECT_NE(message.find(path), std::string::npos) << message;
   EXPECT_NE(message.find("/observables/none"), std::string::npos) << message;

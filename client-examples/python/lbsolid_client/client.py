@@ -85,6 +85,7 @@ class Body:
     angular_velocity: np.ndarray = None  # (3,), the inertia tensor solved for it (2D: along z)
     orientation: float = float("nan")    # 2D: radians, the best-fit turn from the rest shape
     orientation_quaternion: np.ndarray = None  # (4,) w, x, y, z: the same turn, 2D and 3D, w >= 0
+    torque: np.ndarray = None  # (3,) in the last step, about the centre of mass (scenes with a rotating body)
 
 
 @dataclass
@@ -114,7 +115,7 @@ class Recording:
 
     def body_series(self, body: str, quantity: str):
         """(steps, values) of one body quantity (centre_of_mass, mean_velocity, mass, energy,
-        angular_momentum, angular_velocity, orientation, orientation_quaternion)."""
+        angular_momentum, angular_velocity, orientation, orientation_quaternion, torque)."""
         steps = np.array([f.step for f in self.particles], dtype=np.int64)
         return steps, np.array([getattr(f.bodies[body], quantity) for f in self.particles])
 
@@ -136,7 +137,8 @@ def particles_from_proto(frame) -> Particles:
                               _vector(b.centre_of_mass), _vector(b.mean_velocity), b.mass, b.energy,
                               _vector(b.angular_momentum), _vector(b.angular_velocity), b.orientation,
                               np.array([b.orientation_quaternion.w, b.orientation_quaternion.x,
-                                        b.orientation_quaternion.y, b.orientation_quaternion.z], dtype=np.float64))
+                                        b.orientation_quaternion.y, b.orientation_quaternion.z], dtype=np.float64),
+                              _vector(b.torque))
     return Particles(frame.step, bodies)
 
 

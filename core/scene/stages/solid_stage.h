@@ -2,7 +2,8 @@
 // The solid's step (MODEL.md eqs. 6-7) with the forces the scene has: the bodies' loads, the
 // exchange's reaction -dP, then wall contact, which needs every other force. Each force is summed
 // as the solid's step reaches its particle, in one pass; which forces exist is fixed when the
-// stage is built (make_solid_stage), so a scene runs no code for a force it lacks.
+// stage is built (make_solid_stage), so a scene runs no code for a force it lacks. With a torque
+// record (scenes with a rotating body), each particle's total force is recorded as well.
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,17 +11,18 @@
 #include "parallel/thread_pool.h"
 #include "scene/scene.h"
 #include "scene/stages/coupling_state.h"
+#include "scene/stages/torque_record.h"
 #include "scene/step_stage.h"
 #include "solid/wall_contact.h"
 
 namespace lbsolid::scene {
 
-template <int D, bool kLoads, bool kExchange, bool kContact>
+template <int D, bool kLoads, bool kExchange, bool kContact, bool kTorque>
 class SolidStage final : public StepStage {
  public:
   SolidStage(const Scene& scene, solid::SolidSystem& solid, const CouplingState* coupling,
-             const solid::ContactWalls& walls, parallel::ThreadPool& pool)
-      : scene_(scene), solid_(solid), coupling_(coupling), walls_(walls), pool_(pool) {}
+             const solid::ContactWalls& walls, TorqueRecord* torque, parallel::ThreadPool& pool)
+      : scene_(scene), solid_(solid), coupling_(coupling), walls_(walls), torque_(torque), pool_(pool) {}
 
   std::vector<std::string> names() const override {
     std::vector<std::string> n;
@@ -42,9 +44,11 @@ class SolidStage final : public StepStage {
         for (int a = 0; a < 3; ++a) f[a] -= dp[a];
       }
       if constexpr (kContact) solid::add_wall_contact(walls_, solid_, p, f);
+      if constexpr (kTorque) torque_->record(p, solid_.position(p), f);
       return f;
     };
     solid_.stream(force, &pool_, scene_.fluid.threads);
+    if constexpr (kTorque) torque_->sum(solid_, &pool_, scene_.fluid.threads);
     clock.lap(Stage::kSolid);
   }
 
@@ -53,16 +57,22 @@ class SolidStage final : public StepStage {
   solid::SolidSystem& solid_;
   const CouplingState* coupling_;
   const solid::ContactWalls& walls_;
+  TorqueRecord* torque_;
   parallel::ThreadPool& pool_;
 };
 
-// The solid stage for the forces present: loads, the exchange (`coupling` not null), contact.
+// The solid stage for the forces present: loads, the exchange (`coupling` not null), contact;
+// recording the torques when `torque` is not null.
 template <int D>
 std::unique_ptr<StepStage> make_solid_stage(bool loads, bool contact, const Scene& scene, solid::SolidSystem& solid,
                                             const CouplingState* coupling, const solid::ContactWalls& walls,
-                                            parallel::ThreadPool& pool) {
+                                            TorqueRecord* torque, parallel::ThreadPool& pool) {
   auto make = [&]<bool kLoads, bool kExchange, bool kContact>() -> std::unique_ptr<StepStage> {
-    return std::make_unique<SolidStage<D, kLoads, kExchange, kContact>>(scene, solid, coupling, walls, pool);
+    if (torque)
+      return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, true>>(scene, solid, coupling, walls, torque,
+                                                                                pool);
+    return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, false>>(scene, solid, coupling, walls, nullptr,
+                                                                               pool);
   };
   auto with_contact = [&]<bool kLoads, bool kExchange>() {
     return contact ? make.template operator()<kLoads, kExchange, true>()
