@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <string>
 
@@ -54,6 +55,29 @@ inline double norm(const scene::Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] *
 
 inline scene::Vec3 difference(const scene::Vec3& a, const scene::Vec3& b) {
   return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+
+// A run the monitor stopped: prints the stop (one outcome a hard case may have) and checks that it
+// is clean. Returns whether it stopped.
+inline bool report_stop(const scene::Simulation& sim, const std::optional<Stop>& stop, const std::string& name) {
+  if (!stop) return false;
+  std::printf("[ figure   ] %s: stopped: %s\n", name.c_str(), stop->what.c_str());
+  expect_clean_stop(sim, *stop);
+  return true;
+}
+
+// What a bounded run keeps: every value finite, and the total momentum (relative to its size) and
+// the fluid's mass to 1e-12 of their start (round-off over thousands of steps).
+inline void expect_bounded_and_conserved(const scene::Simulation& sim, const scene::Totals& start,
+                                         const std::string& name) {
+  EXPECT_EQ(non_finite_or_negative(sim), "");
+  const auto now = sim.totals();
+  const double momentum = norm(difference(now.momentum(), start.momentum())) / norm(start.momentum());
+  const double mass = std::abs(now.fluid_mass - start.fluid_mass) / start.fluid_mass;
+  report(name + ": momentum drift (relative)", momentum, 1e-12);
+  report(name + ": fluid mass drift (relative)", mass, 1e-12);
+  EXPECT_LT(momentum, 1e-12);
+  EXPECT_LT(mass, 1e-12);
 }
 
 }  // namespace lbsolid::hard_cases
