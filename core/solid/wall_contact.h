@@ -24,12 +24,13 @@ struct ContactWalls {
 };
 
 // Adds the contact force on particle p to `force` (which holds every other force on it) if p is
-// about to cross a wall. Reads only p's own state.
+// about to cross a wall. Reads only p's own state. D: the solid's dimension.
+template <int D>
 inline void add_wall_contact(const ContactWalls& walls, const SolidSystem& solid, int p, Vec3& force) {
-  const Vec3& psi = solid.momentum(p);
-  const Vec3& r = solid.position(p);
+  const Vec3 psi = solid.momenta().get<D>(p);
+  const Vec3 r = solid.positions().get<D>(p);
   const double m = solid.mass(p);
-  for (int axis = 0; axis < solid.dimension(); ++axis) {
+  for (int axis = 0; axis < D; ++axis) {
     const double push = psi[axis] + 0.5 * force[axis];  // P.n, n along the axis
     const double arrival = r[axis] + push / m;
     const bool through_low = walls.present[2 * axis] && push < 0 && arrival < walls.position[2 * axis];

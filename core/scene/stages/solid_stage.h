@@ -43,7 +43,7 @@ class SolidStage final : public StepStage {
         const solid::Vec3 dp = coupling_->exchange.particle_dp(p, compared, solid_.mass(p));
         for (int a = 0; a < 3; ++a) f[a] -= dp[a];
       }
-      if constexpr (kContact) solid::add_wall_contact(walls_, solid_, p, f);
+      if constexpr (kContact) solid::add_wall_contact<D>(walls_, solid_, p, f);
       if constexpr (kTorque) torque_->record(p, solid_.position(p), f);
       return f;
     };
