@@ -23,7 +23,7 @@ Vec3 solve_3x3(const double m[3][3], const Vec3& v) {
 
 }  // namespace
 
-BodyState measure_body(const solid::SolidSystem& solid, int body) {
+BodyState measure_body(const solid::SolidSystem& solid, int body, bool with_orientation) {
   const solid::SolidSystem* s = &solid;
   BodyState state;
   const auto& b = s->body(body);
@@ -56,11 +56,11 @@ BodyState measure_body(const solid::SolidSystem& solid, int body) {
   }
   if (s->dimension() == 2) {
     if (inertia[2][2] > 0) state.angular_velocity[2] = state.angular_momentum[2] / inertia[2][2];
-    state.orientation = s->best_fit_angle(body);
+    if (with_orientation) state.orientation = s->best_fit_angle(body);
   } else {
     state.angular_velocity = solve_3x3(inertia, state.angular_momentum);
   }
-  state.orientation_quaternion = s->best_fit_quaternion(body);
+  if (with_orientation) state.orientation_quaternion = s->best_fit_quaternion(body);
   return state;
 }
 

@@ -25,7 +25,9 @@ struct BodyState {
   Vec3 torque{0, 0, 0};
 };
 
-// Body `body` of `solid` (a valid index).
-BodyState measure_body(const solid::SolidSystem& solid, int body);
+// Body `body` of `solid` (a valid index). Without orientation, the best fits (a pass over the
+// links, and a 4 x 4 eigenproblem in 3D) are skipped and orientation, orientation_quaternion keep
+// their defaults: for a caller that needs the motion only, every step.
+BodyState measure_body(const solid::SolidSystem& solid, int body, bool with_orientation = true);
 
 }  // namespace lbsolid::scene

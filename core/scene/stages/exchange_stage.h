@@ -57,7 +57,7 @@ class ExchangeStage final : public StepStage {
       for (int b = static_cast<int>(first_body); b < end_body; ++b) {
         const auto& body = solid_.body(b);
         if (!body.rotates) continue;
-        const Vec3 w = measure_body(solid_, b).angular_velocity;
+        const Vec3 w = measure_body(solid_, b, /*with_orientation=*/false).angular_velocity;
         for (int p = body.first; p < body.first + body.count; ++p) {
           const auto& node = coupling_.node[p];
           const Vec3 at = fluid::FluidLattice<L, T>::position(node[0], node[1], node[2]);
