@@ -1,13 +1,11 @@
 #include "accuracy/accuracy_problems.h"
 
-#include <sys/resource.h>
-
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 #include <stdexcept>
 
+#include "accuracy/run_clock.h"
 #include "accuracy/steady_monitor.h"
 #include "fluid/fluid_lattice.h"
 #include "lattice/d2q7.h"
@@ -31,12 +29,6 @@ double sound_speed_squared(LatticeKind lattice) { return hexagonal(lattice) ? 0.
 double row_spacing(LatticeKind lattice) { return hexagonal(lattice) ? lattice::D2Q7::row_spacing : 1.0; }
 // The shear viscosity every operator here is built to have: (1/omega - 1/2) c_s^2.
 double viscosity(LatticeKind lattice, double omega) { return (1.0 / omega - 0.5) * sound_speed_squared(lattice); }
-
-long peak_rss_bytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss * 1024L;  // Linux reports kilobytes
-}
 
 scene::Scene base_scene(const Method& method, int nx, int ny, const RunSettings& settings) {
   scene::Scene s;
@@ -70,23 +62,6 @@ void start_from(scene::Simulation& sim, const std::function<Vec3(int, int, int)>
   sim.load_state(state);
 }
 
-// Wall time and throughput of a run, taken from the build to the last measurement.
-class RunClock {
- public:
-  RunClock() : start_(std::chrono::steady_clock::now()) {}
-  void finish(const scene::Simulation& sim, RunResult& r) const {
-    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    r.steps = sim.step_count();
-    const auto& c = sim.scene().fluid;
-    const double cells = static_cast<double>(c.nx) * c.ny * c.nz;
-    r.mlups = r.wall_s > 0 ? cells * static_cast<double>(r.steps) / r.wall_s / 1e6 : 0;
-    r.memory_bytes = sim.fluid_bytes() + sim.solid_bytes();
-    r.peak_rss_bytes = peak_rss_bytes();
-  }
-
- private:
-  std::chrono::steady_clock::time_point start_;
-};
 
 }  // namespace
 
@@ -97,6 +72,8 @@ const char* problem_name(Problem problem) {
     case Problem::kDiskDrag: return "disk_drag";
     case Problem::kArrayDrag2d: return "array_drag_2d";
     case Problem::kArrayDrag3d: return "array_drag_3d";
+    case Problem::kShearRotation: return "shear_rotation";
+    case Problem::kJeffery: return "jeffery";
   }
   return "?";
 }
@@ -109,7 +86,7 @@ std::string method_name(const Method& method) {
 }
 
 std::string method_label(Problem problem, const Method& method) {
-  if (!is_array_problem(problem)) return method_name(method);
+  if (!has_spacing(problem)) return method_name(method);
   char spacing[32];
   std::snprintf(spacing, sizeof spacing, "/s%g", method.spacing);
   return method_name(method) + spacing;

@@ -12,6 +12,13 @@
 //                 D3Q19) of particles in a periodic box, i.e. a square / simple cubic array, against
 //                 Sangani & Acrivos / Hasimoto in Stokes flow (periodic_array.h); error = relative
 //                 error of F / (mu U) against the reference at the radius of the body as built.
+//   shear rotation - a torque-free rotating disk in plane Couette flow turns at gamma_dot / 2 (the
+//                 Stokes result for any round body); error = relative error of its rate
+//                 (rotation_problems.h).
+//   Jeffery     - a rotating lattice ellipse of semi-axes 3b x b in Couette flow tumbles with
+//                 Jeffery's period 2 pi (r + 1/r) / gamma_dot; error = relative error of the period
+//                 against r = 3, the continuum ellipse's (the effective r its turn shows, and how
+//                 well the turn follows Jeffery's law at that r, are recorded beside it).
 // Scaling: DIFFUSIVE. omega (hence the lattice viscosity) is the same at every resolution and the
 // physical time scales with N^2; the velocities scale as 1/N, so the Reynolds number is fixed and
 // the Mach number falls as 1/N (the array drag runs in Stokes flow at a fixed small velocity
@@ -27,18 +34,24 @@
 
 namespace lbsolid::accuracy {
 
-enum class Problem { kShearWave, kPoiseuille, kDiskDrag, kArrayDrag2d, kArrayDrag3d };
+enum class Problem { kShearWave, kPoiseuille, kDiskDrag, kArrayDrag2d, kArrayDrag3d, kShearRotation, kJeffery };
 const char* problem_name(Problem problem);
 // The coupled problems with an analytic reference (array_drag_2d, array_drag_3d).
 inline bool is_array_problem(Problem problem) {
   return problem == Problem::kArrayDrag2d || problem == Problem::kArrayDrag3d;
 }
+// The rotating-body problems (shear_rotation, jeffery).
+inline bool is_rotation_problem(Problem problem) {
+  return problem == Problem::kShearRotation || problem == Problem::kJeffery;
+}
+// The problems whose methods include a particle spacing.
+inline bool has_spacing(Problem problem) { return is_array_problem(problem) || is_rotation_problem(problem); }
 
 struct Method {
   scene::LatticeKind lattice = scene::LatticeKind::kD2Q9;
   scene::Precision precision = scene::Precision::kDouble;
   fluid::CollisionModel collision = fluid::CollisionModel::kBgk;
-  // Array drag only: the bodies' particle spacing (1/spacing particles per node along each axis).
+  // Array drag and rotation: the bodies' particle spacing (1/spacing particles per node along each axis).
   double spacing = 1.0;
 };
 std::string method_name(const Method& method);  // e.g. "bgk/double/D2Q9"
@@ -69,10 +82,14 @@ inline constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 struct RunResult {
   Problem problem = Problem::kShearWave;
   Method method;
-  int resolution = 0;   // cells across: wavelength, channel rows, disk diameter; array: body radius
-  double measured = 0;  // decay rate / nu k^2; (unused); c_d at Re = 1; array: F / (mu U)
+  // Cells across: wavelength, channel rows, disk diameter; array, shear rotation: body radius;
+  // Jeffery: the ellipse's semi-minor axis b.
+  int resolution = 0;
+  // Decay rate / nu k^2; (unused); c_d at Re = 1; array: F / (mu U); shear rotation: rate /
+  // (gamma_dot / 2); Jeffery: gamma_dot T.
+  double measured = 0;
   double error = 0;     // relative error (drag: filled by the sweep)
-  double reynolds = 0;  // drag only: the Re the run reached (array: 2 a_w U / nu)
+  double reynolds = 0;  // drag: the Re the run reached (array: 2 a_w U / nu; rotation: gamma_dot a^2 / nu)
   double wall_s = 0;
   double mlups = 0;     // fluid cell updates per second / 1e6
   std::size_t memory_bytes = 0;  // Simulation::fluid_bytes() + solid_bytes()
@@ -88,6 +105,9 @@ struct RunResult {
   // signed error against reference(a_w), and the body's displacement over the run.
   double a_cells = kNoValue, a_wet = kNoValue, a_hydro = kNoValue;
   double error_signed = kNoValue, error_wet = kNoValue, displacement = kNoValue;
+  // Jeffery only (NaN otherwise): the effective aspect ratio the turn's shape shows, the period's
+  // error against Jeffery's at that ratio, and the largest angle off Jeffery's law (radians).
+  double aspect_ratio = kNoValue, jeffery_period_error = kNoValue, law_deviation = kNoValue;
 };
 
 // Disk diameter in lattice units for a disk of `radius` particles: 2 radius + 1 spacings.

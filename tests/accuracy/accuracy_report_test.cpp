@@ -12,6 +12,10 @@
 //     first-order law's constant) lies in the band the full sweep measured; Re is Stokes flow;
 //   - float, at its own velocity, gives double's drag to a tenth of the error;
 //   - the stopping rule has really reached the steady state (a 100x tighter tolerance agrees).
+// The rotation problems (rotation_problems.h) likewise, BGK and TRT at spacing 1 (about 5 s):
+//   - a torque-free disk turns at gamma_dot / 2 within issue 16's 3% at every size;
+//   - the lattice ellipse's Jeffery period approaches the continuum ellipse's as it grows, and at
+//     every size follows Jeffery's law at the aspect ratio its turn shows.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,6 +27,7 @@
 #include "accuracy/accuracy_sweep.h"
 #include "accuracy/convergence.h"
 #include "accuracy/periodic_array.h"
+#include "accuracy/rotation_problems.h"
 #include "accuracy/sweep_plan.h"
 
 namespace lbsolid::accuracy {
@@ -280,6 +285,61 @@ TEST(AccuracyReport, ArrayDragStopsAtItsSteadyState) {
     EXPECT_GT(b.steps, a.steps);
     EXPECT_LT(change, 1e-4);
   }
+}
+
+// The rotation problems' quick sweep: BGK and TRT at spacing 1 on both problems.
+const std::vector<MethodSweep>& rotation_sweeps() {
+  static const std::vector<MethodSweep> all = [] {
+    std::vector<MethodSweep> s;
+    const SweepPlan plan = quick_plan();
+    const RunSettings settings;
+    for (Problem problem : {Problem::kShearRotation, Problem::kJeffery})
+      for (auto collision : {fluid::CollisionModel::kBgk, fluid::CollisionModel::kTrt}) {
+        const Method m{LatticeKind::kD2Q9, Precision::kDouble, collision, 1.0};
+        s.push_back(sweep_method(problem, m, plan.resolutions(problem), settings));
+        for (const RunResult& r : s.back().runs)
+          std::printf("  %-14s %-26s N %-2d measured %.5g error %.4e (r_e %.3f, period(r_e) %+.4f, law %.4f)  %.3f s\n",
+                      problem_name(problem), method_label(problem, m).c_str(), r.resolution, r.measured, r.error,
+                      r.aspect_ratio, r.jeffery_period_error, r.law_deviation, r.wall_s);
+      }
+    return s;
+  }();
+  return all;
+}
+
+// Measured at omega 0.8: 0.34% to 0.87% (R = 4, 8). The rate is taken once the Couette flow has
+// settled to e^-7 of its start, so the figures are near the measurement's own floor (TRT's does not
+// fall from R = 4 to 8: 0.38%, 0.42%); 3% is issue 16's bound.
+TEST(AccuracyReport, ATorqueFreeDiskTurnsAtHalfTheShearRateAtEverySize) {
+  int checked = 0;
+  for (const auto& s : rotation_sweeps()) {
+    if (s.problem != Problem::kShearRotation) continue;
+    for (const RunResult& r : s.runs) {
+      EXPECT_EQ(r.stop, "time") << method_label(s.problem, s.method) << " R " << r.resolution;
+      EXPECT_LT(r.error, 0.03) << method_label(s.problem, s.method) << " R " << r.resolution;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 4);
+}
+
+// Measured at omega 0.8, b = 1 -> 2: the period's error against r = 3 falls 109% -> 36% (BGK) and
+// 69% -> 24% (TRT); against Jeffery's at the turn's own r_e it is 0.8-1.1% and the angle stays
+// within 0.013 rad of the law at b = 2 (0.075-0.080 at b = 1, a 9-particle cross). The bounds are
+// jeffery_orbit_test's: 5% (issue 16) and 0.03 rad, held at b = 2.
+TEST(AccuracyReport, TheJefferyPeriodConvergesAndFollowsTheLaw) {
+  int checked = 0;
+  for (const auto& s : rotation_sweeps()) {
+    if (s.problem != Problem::kJeffery) continue;
+    const std::string name = method_label(s.problem, s.method);
+    ASSERT_EQ(s.runs.size(), 2u) << name;
+    for (const RunResult& r : s.runs) ASSERT_TRUE(r.converged()) << name << " b " << r.resolution << ": no full turn";
+    EXPECT_LT(s.runs[1].error, s.runs[0].error) << name << ": the error must fall with the size";
+    EXPECT_LT(std::abs(s.runs[1].jeffery_period_error), 0.05) << name;
+    EXPECT_LT(s.runs[1].law_deviation, 0.03) << name;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2);
 }
 
 TEST(Convergence, OrdersRichardsonAndFrontOnKnownData) {

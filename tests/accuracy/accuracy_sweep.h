@@ -40,7 +40,8 @@ MethodSweep sweep_method(Problem problem, const Method& method, const std::vecto
 std::vector<RunResult> pareto_runs(Problem problem, const std::vector<MethodSweep>& sweeps);
 
 // The error levels the report asks the cheapest run for: 10%, 1%, 0.1% for the fluid problems;
-// 10%, 5%, 2% for the array drag (a body's drag converges at first order: 1% is out of reach).
+// 10%, 5%, 2% for the array drag (a body's drag converges at first order: 1% is out of reach);
+// 10%, 3%, 1% for the shear rotation; 30%, 20%, 10% for the Jeffery period.
 std::vector<double> error_targets(Problem problem);
 
 // The fastest run of `problem` with error <= target; false when none reaches it.

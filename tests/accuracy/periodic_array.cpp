@@ -1,13 +1,12 @@
 #include "accuracy/periodic_array.h"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <set>
 #include <stdexcept>
 
+#include "accuracy/run_clock.h"
 #include "accuracy/steady_monitor.h"
 #include "coupling/node_locator.h"
 #include "lattice/d2q7.h"
@@ -237,9 +236,7 @@ RunResult run_array_drag(Problem problem, const Method& method, int radius, cons
   r.steps = a.run.steps;
   r.mlups = a.run.seconds > 0 ? cell_measure(box) * static_cast<double>(a.run.steps) / a.run.seconds / 1e6 : 0;
   r.memory_bytes = a.run.memory_bytes;
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  r.peak_rss_bytes = usage.ru_maxrss * 1024L;
+  r.peak_rss_bytes = peak_rss_bytes();
   r.stop = a.run.stop;
   r.a_cells = a.a_cells;
   r.a_wet = a.a_wet;

@@ -1,6 +1,6 @@
 // lbsolid-accuracy-report: what accuracy costs. Problems with a known answer (decaying shear
-// wave, Poiseuille, drag on a disk at Re = 1, and the coupled solid's drag in periodic arrays of
-// disks and balls) swept over resolution for every lattice, precision and collision operator that
+// wave, Poiseuille, drag on a disk at Re = 1, the coupled solid's drag in periodic arrays of
+// disks and balls, and rotating bodies in shear: a disk's rate, an ellipse's Jeffery period) swept over resolution for every lattice, precision and collision operator that
 // runs (and for the arrays the particle spacing 1 and 1/2); for each run the error, wall time,
 // MLUPS, memory and steps. Prints the table, the observed order per method, the Pareto front of
 // error against wall time and the cheapest run reaching 10%, 1% and 0.1% (arrays: 10%, 5%, 2%);
@@ -8,7 +8,8 @@
 //   lbsolid-accuracy-report [--quick] [--csv FILE] [--threads N] [--omega W] [--max-disk-diameter D]
 //                           [--problems LIST]
 // LIST: comma-separated problem names (shear_wave, poiseuille, disk_drag, array_drag_2d,
-// array_drag_3d) or the groups "fluid" (the first three) and "coupled" (the arrays); default all.
+// array_drag_3d, shear_rotation, jeffery) or the groups "fluid" (the first three), "coupled" (the
+// arrays) and "rotation" (the last two); default all.
 // Plot: python3 tests/bench/plot_accuracy.py FILE [PNG]
 #include <algorithm>
 #include <cmath>
@@ -21,14 +22,24 @@
 
 #include "accuracy/accuracy_sweep.h"
 #include "accuracy/periodic_array.h"
+#include "accuracy/rotation_in_shear.h"
+#include "accuracy/rotation_problems.h"
 #include "accuracy/sweep_plan.h"
 
 namespace {
 
 using namespace lbsolid::accuracy;
 
-constexpr Problem kAllProblems[] = {Problem::kShearWave, Problem::kPoiseuille, Problem::kDiskDrag,
-                                    Problem::kArrayDrag2d, Problem::kArrayDrag3d};
+constexpr Problem kAllProblems[] = {Problem::kShearWave,   Problem::kPoiseuille,    Problem::kDiskDrag,
+                                    Problem::kArrayDrag2d, Problem::kArrayDrag3d,   Problem::kShearRotation,
+                                    Problem::kJeffery};
+
+bool in_group(const std::string& group, Problem p) {
+  if (group == "fluid") return !is_array_problem(p) && !is_rotation_problem(p);
+  if (group == "coupled") return is_array_problem(p);
+  if (group == "rotation") return is_rotation_problem(p);
+  return false;
+}
 
 void print_run(const RunResult& r, double order) {
   std::printf("  %-13s %-30s %5d  %-10.3e %9.3f %8.1f %10zu %9ld %7.2f%s\n", problem_name(r.problem),
@@ -45,8 +56,7 @@ bool parse_problems(const std::string& list, std::vector<Problem>& out) {
     const std::string name = list.substr(start, end - start);
     bool known = false;
     for (Problem p : kAllProblems) {
-      const bool group = (name == "fluid" && !is_array_problem(p)) || (name == "coupled" && is_array_problem(p));
-      if (group || name == problem_name(p)) {
+      if (in_group(name, p) || name == problem_name(p)) {
         if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
         known = true;
       }
@@ -93,6 +103,20 @@ void print_array_convergence_check(const std::vector<MethodSweep>& sweeps, const
   }
 }
 
+// The Jeffery runs: the aspect ratio each turn shows, and how well it follows Jeffery's law there.
+void print_jeffery_details(const std::vector<MethodSweep>& sweeps) {
+  std::printf("\nJeffery: the lattice ellipse 3b x b (error: its period against Jeffery's at r = 3); r_e, the\n"
+              "effective aspect ratio its turn's shape shows; the period against Jeffery's at r_e; the largest\n"
+              "angle off Jeffery's law at r_e over the turn:\n");
+  std::printf("  %-30s %3s %10s %9s %7s %12s %10s\n", "method", "b", "gamma T", "error", "r_e", "period(r_e)", "law (rad)");
+  for (const auto& s : sweeps)
+    if (s.problem == Problem::kJeffery)
+      for (const RunResult& r : s.runs)
+        std::printf("  %-30s %3d %10.3f %+9.4f %7.3f %+12.4f %10.4f%s\n", method_label(r.problem, r.method).c_str(),
+                    r.resolution, r.measured, r.measured / jeffery_shear_period(3) - 1,
+                    r.aspect_ratio, r.jeffery_period_error, r.law_deviation, r.converged() ? "" : "  (no full turn)");
+}
+
 std::string csv_number(double v, const char* format = "%.6g") {
   if (!std::isfinite(v)) return "";
   char buffer[64];
@@ -103,25 +127,30 @@ std::string csv_number(double v, const char* format = "%.6g") {
 bool write_csv(const std::string& path, const std::vector<MethodSweep>& sweeps) {
   FILE* f = std::fopen(path.c_str(), "w");
   if (!f) return false;
-  // The last six columns are the array drag's (empty for the other problems).
+  // spacing: the array drag's and rotation problems'; a_cells .. error_wet: the array drag's;
+  // aspect_ratio .. law_deviation: Jeffery's (empty for the other problems).
   std::fprintf(f, "problem,lattice,precision,collision,resolution,error,wall_s,mlups,memory_bytes,steps,order,"
-                  "measured,reynolds,peak_rss_bytes,stop,spacing,a_cells,a_wet,a_hydro,error_signed,error_wet\n");
+                  "measured,reynolds,peak_rss_bytes,stop,spacing,a_cells,a_wet,a_hydro,error_signed,error_wet,"
+                  "aspect_ratio,jeffery_period_error,law_deviation\n");
   for (const auto& s : sweeps)
     for (std::size_t k = 0; k < s.runs.size(); ++k) {
       const RunResult& r = s.runs[k];
       const bool array = is_array_problem(r.problem);
-      const std::string reynolds = r.problem == Problem::kDiskDrag ? csv_number(r.reynolds, "%.4f")
-                                   : array                         ? csv_number(r.reynolds, "%.3e")
-                                                                   : "";
-      std::fprintf(f, "%s,%s,%s,%s,%d,%s,%s,%s,%zu,%ld,%s,%s,%s,%ld,%s,%s,%s,%s,%s,%s,%s\n", problem_name(r.problem),
+      const std::string reynolds = r.problem == Problem::kDiskDrag                       ? csv_number(r.reynolds, "%.4f")
+                                   : array || is_rotation_problem(r.problem) ? csv_number(r.reynolds, "%.3e")
+                                                                             : "";
+      std::fprintf(f, "%s,%s,%s,%s,%d,%s,%s,%s,%zu,%ld,%s,%s,%s,%ld,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n",
+                   problem_name(r.problem),
                    lbsolid::scene::lattice_kind_name(r.method.lattice), precision_name(r.method.precision),
                    lbsolid::fluid::collision_model_name(r.method.collision), r.resolution, csv_number(r.error).c_str(),
                    csv_number(r.wall_s).c_str(), csv_number(r.mlups, "%.2f").c_str(), r.memory_bytes, r.steps,
                    csv_number(s.pairwise_order[k], "%.3f").c_str(), csv_number(r.measured, "%.8g").c_str(),
                    reynolds.c_str(), r.peak_rss_bytes, r.stop.c_str(),
-                   array ? csv_number(r.method.spacing, "%g").c_str() : "", csv_number(r.a_cells, "%.4f").c_str(),
-                   csv_number(r.a_wet, "%.4f").c_str(), csv_number(r.a_hydro, "%.4f").c_str(),
-                   csv_number(r.error_signed).c_str(), csv_number(r.error_wet).c_str());
+                   has_spacing(r.problem) ? csv_number(r.method.spacing, "%g").c_str() : "",
+                   csv_number(r.a_cells, "%.4f").c_str(), csv_number(r.a_wet, "%.4f").c_str(),
+                   csv_number(r.a_hydro, "%.4f").c_str(), csv_number(r.error_signed).c_str(),
+                   csv_number(r.error_wet).c_str(), csv_number(r.aspect_ratio, "%.4f").c_str(),
+                   csv_number(r.jeffery_period_error).c_str(), csv_number(r.law_deviation).c_str());
     }
   return std::fclose(f) == 0;
 }
@@ -174,7 +203,7 @@ int main(int argc, char** argv) {
                    "usage: lbsolid-accuracy-report [--quick] [--csv FILE] [--threads N] [--omega W]"
                    " [--max-disk-diameter D (9 to 65, default 37)]\n"
                    "       [--problems LIST (comma-separated: shear_wave, poiseuille, disk_drag, array_drag_2d,"
-                   " array_drag_3d, or fluid, coupled; default all)]\n");
+                   " array_drag_3d, shear_rotation, jeffery, or fluid, coupled, rotation; default all)]\n");
       return 2;
     }
   }
@@ -186,12 +215,14 @@ int main(int argc, char** argv) {
   const SweepPlan plan = quick ? quick_plan() : full_plan(max_disk_diameter);
   std::vector<std::string> skipped;
   const std::vector<Method> fluid_methods = available_methods(settings, &skipped);
-  std::vector<Method> methods_2d, methods_3d;
+  std::vector<Method> methods_2d, methods_3d, methods_rotation;
   for (Problem p : problems) {
     if (p == Problem::kArrayDrag2d) methods_2d = array_methods(p, settings, &skipped);
     if (p == Problem::kArrayDrag3d) methods_3d = array_methods(p, settings, &skipped);
+    if (is_rotation_problem(p) && methods_rotation.empty()) methods_rotation = rotation_methods(settings, &skipped);
   }
   auto methods_of = [&](Problem p) -> const std::vector<Method>& {
+    if (is_rotation_problem(p)) return methods_rotation;
     return p == Problem::kArrayDrag2d ? methods_2d : p == Problem::kArrayDrag3d ? methods_3d : fluid_methods;
   };
   std::printf("What accuracy costs (%s sweep, omega %.3g, %d thread%s; diffusive scaling; array drag in Stokes flow"
@@ -246,6 +277,7 @@ int main(int argc, char** argv) {
 
   const bool any_array = !methods_2d.empty() || !methods_3d.empty();
   if (any_array) print_array_radii(sweeps);
+  if (std::find(problems.begin(), problems.end(), Problem::kJeffery) != problems.end()) print_jeffery_details(sweeps);
 
   std::printf("\nPareto front (error against wall time; no other run is both faster and more accurate):\n");
   for (Problem problem : problems)

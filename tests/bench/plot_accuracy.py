@@ -19,9 +19,12 @@ PROBLEMS = [("shear_wave", "decaying shear wave (decay rate)"),
             ("poiseuille", "Poiseuille (L2 of the profile)"),
             ("disk_drag", "disk drag at Re = 1 (c_d vs Richardson)"),
             ("array_drag_2d", "coupled: square array of disks, D2Q9\n(F vs Sangani-Acrivos at a_cells)"),
-            ("array_drag_3d", "coupled: cubic array of balls, D3Q19\n(F vs Hasimoto at a_cells)")]
+            ("array_drag_3d", "coupled: cubic array of balls, D3Q19\n(F vs Hasimoto at a_cells)"),
+            ("shear_rotation", "rotating disk in shear, D2Q9\n(rate vs gamma_dot / 2)"),
+            ("jeffery", "rotating lattice ellipse 3b x b in shear, D2Q9\n(Jeffery period vs r = 3)")]
 # The error levels each panel marks (the report's targets).
-TARGETS = {"array_drag_2d": (0.1, 0.05, 0.02), "array_drag_3d": (0.1, 0.05, 0.02)}
+TARGETS = {"array_drag_2d": (0.1, 0.05, 0.02), "array_drag_3d": (0.1, 0.05, 0.02),
+           "shear_rotation": (0.1, 0.03, 0.01), "jeffery": (0.3, 0.2, 0.1)}
 # Colour by collision operator, marker shape by lattice (and spacing 1/2 for the arrays: a
 # triangle), filled for double and hollow for float.
 COLOURS = {"bgk": "tab:blue", "trt": "tab:orange", "regularized": "tab:green"}
@@ -34,7 +37,7 @@ def read(path):
         rows = [r for r in csv.DictReader(f) if r["error"] and float(r["error"]) > 0]
     for r in rows:
         r["error"], r["wall_s"] = float(r["error"]), max(float(r["wall_s"]), 1e-5)
-        r["spacing"] = r.get("spacing") or ""  # only the array problems have one
+        r["spacing"] = r.get("spacing") or ""  # only the array and rotation problems have one
     return rows
 
 
