@@ -18,7 +18,14 @@ from . import _stubs
 
 
 def default_binary() -> Path:
-    return Path(os.environ.get("LBSOLIDD", _stubs.build_dir() / "server" / "lbsolidd"))
+    """$LBSOLIDD, else the source tree's build, else lbsolidd on PATH (installed)."""
+    if "LBSOLIDD" in os.environ:
+        return Path(os.environ["LBSOLIDD"])
+    built = _stubs.build_dir() / "server" / "lbsolidd"
+    if built.exists():
+        return built
+    installed = shutil.which("lbsolidd")
+    return Path(installed) if installed else built
 
 
 class LocalDaemon:
