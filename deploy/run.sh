@@ -11,8 +11,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 deploy/setup.sh
 
-scenario=client-examples/scenarios/fig5_drag_disk.textproto
-steps=$(sed -n 's/^# *steps: *\([0-9]*\).*/\1/p' "$scenario" | head -n 1)
+scenario=client-examples/scenarios/fig5_drag_disk.textproto  # its "# steps:" line says how many
 out=out
 data="$out/daemon-data"  # this run's daemon only: a rerun starts clean instead of recovering old sessions
 rm -rf "$data"
@@ -27,7 +26,7 @@ for _ in $(seq 200); do [ -s "$data/port" ] && break; sleep 0.05; done
 [ -s "$data/port" ] || { echo "run: lbsolidd did not start" >&2; exit 3; }
 server="127.0.0.1:$(cat "$data/port")"
 
-echo "run: lbsolidd on $server; submitting $scenario for ${steps} steps"
-build/client-examples/cli/lbsolid --server "$server" submit "$scenario" --steps "$steps" --out "$out" "$@"
+echo "run: lbsolidd on $server; submitting $scenario"
+build/client-examples/cli/lbsolid --server "$server" submit "$scenario" --out "$out" "$@"
 build/client-examples/drag-summary/lbsolid-drag-summary "$out"
 echo "run: results in $out/ (summary.txt, particles.h5, fields.h5 + fields.xdmf, status.json)"

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <set>
 
+#include "declared_steps.h"
 #include "exit_codes.h"
 
 namespace lbsolid::cli {
@@ -52,8 +53,9 @@ const std::vector<CommandSpec>& command_specs() {
       {"submit", {"FILE"},
        {{"steps", true}, {"wait", false}, {"out", true}, {"request-id", true}, {"profile-every", true},
         {"particles-every", true}},
-       "--steps N [--wait] [--out DIR] [--request-id ID] [--profile-every N] [--particles-every N]",
-       "create a session from a scenario file (.textproto or .json) and run it N steps"},
+       "[--steps N] [--wait] [--out DIR] [--request-id ID] [--profile-every N] [--particles-every N]",
+       "create a session from a scenario file (.textproto or .json) and run it N steps (default: the\n"
+       "      N of the file's first '# steps: N' comment line)"},
       {"validate", {"FILE"}, {}, "",
        "list every problem and warning the daemon finds in a scenario file (exit 2 if any problem)"},
       {"status", {"ID"}, {}, "", "show one session"},
@@ -235,8 +237,12 @@ std::string usage_text() {
 SubmitOptions submit_options(const CommandLine& line) {
   SubmitOptions o;
   o.file = line.positional.at(0);
-  if (!line.has("steps")) throw UsageError("submit: --steps N is required");
-  o.steps = parse_long("--steps", line.flags.at("steps"), 1);
+  if (line.has("steps")) {
+    o.steps = parse_long("--steps", line.flags.at("steps"), 1);
+  } else {
+    o.steps = declared_steps(o.file);
+    if (o.steps == 0) throw UsageError("submit: --steps N is required: " + o.file + " declares no '# steps: N' line");
+  }
   o.out_dir = line.has("out") ? line.flags.at("out") : "";
   if (line.has("out") && o.out_dir.empty()) throw UsageError("--out: expected a directory");
   o.wait = line.has("wait") || !o.out_dir.empty();

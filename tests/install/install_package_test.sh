@@ -90,8 +90,7 @@ for _ in $(seq 200); do [ -s "$work/port" ] && break; sleep 0.05; done
 [ -s "$work/port" ] || fail "the installed lbsolidd did not start with the unit's flags (${flags[*]})"
 server="127.0.0.1:$(cat "$work/port")"
 scenario="$root/usr/share/lbsolid/scenarios/fig5_drag_disk.textproto"
-steps=$(sed -n 's/^# *steps: *\([0-9]*\).*/\1/p' "$scenario" | head -n 1)  # as deploy/run.sh
-"$root/usr/bin/lbsolid" --server "$server" submit "$scenario" --steps "$steps" --out "$work/out" >"$work/submit.log" 2>&1 ||
+"$root/usr/bin/lbsolid" --server "$server" submit "$scenario" --out "$work/out" >"$work/submit.log" 2>&1 ||
   { cat "$work/submit.log"; fail "lbsolid submit failed"; }
 "$root/usr/bin/lbsolid-drag-summary" "$work/out" >"$work/summary.log" 2>&1 || { cat "$work/summary.log"; fail "lbsolid-drag-summary failed"; }
 for f in particles.h5 fields.h5 fields.xdmf status.json summary.txt; do

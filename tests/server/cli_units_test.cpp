@@ -2,15 +2,18 @@
 // --json result schema and status.json checksum, option parsing and its usage errors, the exit-code mapping, JSON text and
 // the progress line. The commands themselves need a daemon and are tested end to end elsewhere.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "cli_error.h"
 #include "cli_options.h"
+#include "declared_steps.h"
 #include "exit_codes.h"
 #include "json_writer.h"
 #include "progress_bar.h"
@@ -239,6 +242,33 @@ TEST(CliOptions, UsageErrors) {
   EXPECT_THROW(watch_options(parse({"watch", "s-1"})), UsageError);  // neither stream
   EXPECT_THROW(watch_options(parse({"watch", "s-1", "--profiles", "--particles"})), UsageError);
   EXPECT_THROW(watch_options(parse({"watch", "s-1", "--profiles", "--frames", "0"})), UsageError);
+}
+
+// `submit FILE` without --steps runs the steps the file's "# steps: N" line declares (the example
+// scenarios each have one); --steps wins; a file that declares none needs --steps.
+TEST(CliOptions, SubmitTakesTheStepsTheFileDeclares) {
+  const auto steps = [](const std::string& text) {
+    std::istringstream in(text);
+    return declared_steps(in, "f");
+  };
+  EXPECT_EQ(steps("# A scenario.\n# steps: 1500 (18 bounces)\nname: \"x\"\n# steps: 9\n"), 1500);  // the first
+  EXPECT_EQ(steps("  #steps:42\n"), 42);
+  EXPECT_EQ(steps("name: \"x\"  # steps: 5 is not a comment line\n"), 0);
+  EXPECT_EQ(steps("# stepsize: 3\n{\"name\": \"json\"}\n"), 0);
+  for (const char* bad : {"# steps: lots\n", "# steps: 0\n", "# steps:\n", "# steps: 99999999999999999999\n"})
+    EXPECT_THROW(steps(bad), UsageError) << bad;
+
+  const auto dir = std::filesystem::temp_directory_path() / ("lbsolid-declared-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string with = (dir / "with.textproto").string(), without = (dir / "without.textproto").string();
+  std::ofstream(with) << "# steps: 400 (why)\nname: \"x\"\n";
+  std::ofstream(without) << "name: \"x\"\n";
+  const SubmitOptions declared = submit_options(parse({"submit", with}));
+  EXPECT_EQ(declared.steps, 400);
+  EXPECT_EQ(declared.profile_every, 2);  // max(1, steps / 200) of the declared steps
+  EXPECT_EQ(submit_options(parse({"submit", with, "--steps", "7"})).steps, 7);
+  EXPECT_THROW(submit_options(parse({"submit", without})), UsageError);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(CliOptions, DoubleDashEndsFlags) {
