@@ -52,11 +52,12 @@ const std::vector<CommandSpec>& command_specs() {
   static const std::vector<CommandSpec> specs = {
       {"submit", {"FILE"},
        {{"steps", true}, {"wait", false}, {"out", true}, {"request-id", true}, {"profile-every", true},
-        {"particles-every", true}},
-       "[--steps N] [--wait] [--out DIR] [--request-id ID] [--profile-every N] [--particles-every N]",
+        {"particles-every", true}, {"set", true, true}},
+       "[--steps N] [--set PATH=VALUE]... [--wait] [--out DIR] [--request-id ID] [--profile-every N]\n"
+       "      [--particles-every N]",
        "create a session from a scenario file (.textproto or .json) and run it N steps (default: the\n"
        "      N of the file's first '# steps: N' comment line)"},
-      {"validate", {"FILE"}, {}, "",
+      {"validate", {"FILE"}, {{"set", true, true}}, "[--set PATH=VALUE]...",
        "list every problem and warning the daemon finds in a scenario file (exit 2 if any problem)"},
       {"status", {"ID"}, {}, "", "show one session"},
       {"list", {}, {}, "", "list the daemon's sessions"},
@@ -162,6 +163,11 @@ void parse_into(CommandLine& line, const std::vector<std::string>& args, const c
       throw UsageError("--" + name + " takes no value");
     }
     if (apply_global(line.global, server_given, name, value)) continue;
+    if (flag && flag->repeatable) {
+      line.repeated[name].push_back(value);
+      line.flags[name] = value;
+      continue;
+    }
     if (line.flags.count(name)) throw UsageError("--" + name + " given twice");
     line.flags[name] = value;
   }
@@ -228,6 +234,9 @@ std::string usage_text() {
       "                      --request-id gets the same files; with other --steps it is refused\n"
       "  --request-id ID     makes a retried submit idempotent (default: a random 128-bit id)\n"
       "  --profile-every N, --particles-every N   frame interval in steps (default max(1, steps/200))\n"
+      "  --set PATH=VALUE    (also for validate; repeatable) sets one scenario field, named as the\n"
+      "                      daemon's errors name it: fluid.omega=1.2, bodies[0].load.x=2e-5; the\n"
+      "                      scenario is then validated as the file would be\n"
       "watch details:\n"
       "  --every N (default 100)  --lossless: the run waits for this client  --frames K: stop after K\n\n";
   text += exit_code_help();
@@ -257,6 +266,7 @@ SubmitOptions submit_options(const CommandLine& line) {
   };
   o.profile_every = every_flag("profile-every");
   o.particles_every = every_flag("particles-every");
+  o.overrides = line.all("set");
   return o;
 }
 

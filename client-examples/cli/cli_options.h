@@ -34,6 +34,7 @@ struct GlobalOptions {
 struct FlagSpec {
   std::string name;  // without the leading "--"
   bool takes_value = false;
+  bool repeatable = false;  // may be given more than once (CommandLine::repeated keeps each value)
 };
 
 struct CommandSpec {
@@ -54,7 +55,12 @@ struct CommandLine {
   std::string command;
   std::vector<std::string> positional;
   std::map<std::string, std::string> flags;  // given flags of the command; switches map to ""
+  std::map<std::string, std::vector<std::string>> repeated;  // a repeatable flag's values, in order
   bool has(const std::string& flag) const { return flags.count(flag) != 0; }
+  std::vector<std::string> all(const std::string& flag) const {
+    const auto it = repeated.find(flag);
+    return it == repeated.end() ? std::vector<std::string>{} : it->second;
+  }
 };
 
 // args: argv[1..]; env_server: $LBSOLID_SERVER or null.
@@ -76,6 +82,7 @@ struct SubmitOptions {
   std::string request_id;   // empty: the command makes a random one
   long profile_every = 1;   // default max(1, steps / 200)
   long particles_every = 1; // default max(1, steps / 200)
+  std::vector<std::string> overrides;  // --set PATH=VALUE, applied in order (scenario_override.h)
 };
 SubmitOptions submit_options(const CommandLine& line);
 

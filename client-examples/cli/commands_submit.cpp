@@ -73,7 +73,7 @@ std::string files_text(const std::string& dir, const CommandResult& result) {
 
 int cmd_submit(const CommandLine& line) {
   const SubmitOptions options = submit_options(line);
-  lbsolid::v1::Scenario scenario = load_scenario(options.file);
+  lbsolid::v1::Scenario scenario = load_scenario(options.file, options.overrides);
   if (!options.out_dir.empty()) {
     prepare_output_directory(options.out_dir);
     declare_outputs(scenario, options);

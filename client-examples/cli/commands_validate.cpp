@@ -25,7 +25,7 @@ std::string count_line(long long total, int listed, const char* what) {
 int cmd_validate(const CommandLine& line) {
   const std::string& file = line.positional[0];
   lbsolid::v1::ValidateScenarioRequest request;
-  *request.mutable_scenario() = load_scenario(file);
+  *request.mutable_scenario() = load_scenario(file, line.all("set"));
   Daemon daemon(line.global);
   const auto answer = daemon.call("ValidateScenario", &Stub::ValidateScenario, request);
   const std::vector<std::string> problems(answer.problems().begin(), answer.problems().end());

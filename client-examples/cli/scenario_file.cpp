@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli_error.h"
+#include "scenario_override.h"
 #include "server/api/scenario_translation.h"
 
 namespace lbsolid::cli {
@@ -21,6 +22,12 @@ lbsolid::v1::Scenario load_scenario(const std::string& path) {
   std::string error;
   if (!lbsolid::server::parse_scenario_text(text.str(), &scenario, &error))
     throw CliError(kExitBadInput, path + ": " + error);
+  return scenario;
+}
+
+lbsolid::v1::Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides) {
+  lbsolid::v1::Scenario scenario = load_scenario(path);
+  for (const auto& assignment : overrides) apply_override(scenario, assignment);
   return scenario;
 }
 

@@ -3,6 +3,7 @@
 // before the daemon is involved, and the facts about a scenario the recording needs.
 #include <array>
 #include <string>
+#include <vector>
 
 #include "lbsolid/v1/scenario.pb.h"
 #include "server/recording/scenario_geometry.h"
@@ -11,6 +12,8 @@ namespace lbsolid::cli {
 
 // Throws CliError (exit 2): "FILE: cannot read: reason" or "FILE: line L column C: reason".
 lbsolid::v1::Scenario load_scenario(const std::string& path);
+// The same with each --set PATH=VALUE applied in order (scenario_override.h; exit 2 on a bad one).
+lbsolid::v1::Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides);
 
 // The facts the recording needs, as the daemon's own recording reads them.
 using lbsolid::server::recording::box_edges;

@@ -271,6 +271,16 @@ TEST(CliOptions, SubmitTakesTheStepsTheFileDeclares) {
   std::filesystem::remove_all(dir);
 }
 
+// --set may be given many times (each kept, in order); other flags still only once.
+TEST(CliOptions, SetIsRepeatable) {
+  const auto o = submit_options(parse({"submit", "f", "--set", "fluid.omega=1.2", "--steps", "5", "--set=domain.nx=8"}));
+  EXPECT_EQ(o.overrides, (std::vector<std::string>{"fluid.omega=1.2", "domain.nx=8"}));
+  EXPECT_EQ(parse({"validate", "f", "--set", "a=1", "--set", "b=2"}).all("set"), (std::vector<std::string>{"a=1", "b=2"}));
+  EXPECT_TRUE(submit_options(parse({"submit", "f", "--steps", "5"})).overrides.empty());
+  EXPECT_THROW(parse({"submit", "f", "--steps", "5", "--steps", "6"}), UsageError);
+  EXPECT_THROW(parse({"status", "s-1", "--set", "a=1"}), UsageError);  // only submit and validate take it
+}
+
 TEST(CliOptions, DoubleDashEndsFlags) {
   const auto line = parse({"status", "--", "-odd-id"});
   ASSERT_EQ(line.positional.size(), 1u);

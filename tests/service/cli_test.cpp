@@ -127,6 +127,29 @@ TEST_F(Cli, ValidateListsEveryProblemAndCreatesNothing) {
   EXPECT_EQ(list.out.find("\"id\""), std::string::npos) << "validate created a session: " << list.out;
 }
 
+// --set PATH=VALUE changes one field of the file before the daemon sees it: the daemon validates
+// the result (an omega it refuses is its problem, named by path); a path that names nothing is the
+// CLI's (exit 2, nothing sent); a submit runs the changed scenario (its step count shows the
+// declared steps came from the file, its omega warning that the set one was used).
+TEST_F(Cli, SetChangesOneFieldOfTheFile) {
+  std::string declared = std::string("# steps: 30 (a short run)\n") + kSmallScenario;
+  const auto scenario = write_file(dir_, "small.textproto", declared);
+  const auto refused = cli(server() + "--json validate " + scenario + " --set fluid.omega=2.5");
+  EXPECT_EQ(refused.exit_code, 2) << refused.out;
+  EXPECT_NE(refused.out.find("scenario.fluid.omega"), std::string::npos) << refused.out;
+  const auto two = cli(server() + "--json validate " + scenario + " --set fluid.omega=1.97 --set bodies[0].load.x=-1e-5");
+  EXPECT_EQ(two.exit_code, 0) << two.out;
+  EXPECT_NE(two.out.find("scenario.fluid.omega"), std::string::npos) << "the near-edge omega's warning: " << two.out;
+  const auto unknown = cli(server() + "--json validate " + scenario + " --set fluid.omgea=1.5");
+  EXPECT_EQ(unknown.exit_code, 2) << unknown.out;
+  EXPECT_NE(unknown.out.find("--set fluid.omgea=1.5: "), std::string::npos) << unknown.out;
+
+  const auto run = cli(server() + "--json submit " + scenario + " --set fluid.omega=1.97 --wait");
+  EXPECT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_NE(run.out.find("\"step\":30"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("omega"), std::string::npos) << "the set omega's warning: " << run.out;
+}
+
 // The value printed after `label` in a summary.txt line (lbsolid-drag-summary); NaN if absent.
 double summary_value(const std::string& summary, const std::string& label) {
   const auto at = summary.find(label);
