@@ -310,8 +310,12 @@ class Session:
         return wanted
 
     def run_and_record(self, steps: int, profiles_every: int = 0, particles_every: int = 0, bodies=(),
-                       progress=None, label: str = None) -> Recording:
+                       progress=None, label: str = None, keep_particles=None) -> Recording:
         """Runs `steps` steps and records every profile and particle frame asked for, losing none.
+
+        `keep_particles(frame)`, if given, turns each ParticleFrame message into what the recording
+        keeps instead of a Particles (e.g. only the bodies' orientations, when every particle of
+        hundreds of frames would not fit in memory); not for a DONE session.
 
         The streams are opened first and their first frame (the current state) awaited, so Run
         starts only once both are listening. A session that is DONE already (a retried script) is
@@ -320,12 +324,15 @@ class Session:
         that file and read NaN.
         """
         if self.get().state == pb.SESSION_STATE_DONE:
+            if keep_particles is not None:
+                raise ValueError(f"session {self.id} is DONE: its recorded frames cannot be kept by keep_particles")
             return self._recorded(profiles_every, particles_every, bodies)
         streams = []
         if profiles_every > 0:
             streams.append(("profiles", self.watch_profiles(profiles_every), profile_from_proto))
         if particles_every > 0:
-            streams.append(("particles", self.watch_particles(particles_every, bodies), particles_from_proto))
+            streams.append(("particles", self.watch_particles(particles_every, bodies),
+                            keep_particles or particles_from_proto))
         collected = {name: [] for name, _, _ in streams}
         errors = []
         first_frames = [threading.Event() for _ in streams]
