@@ -3,6 +3,7 @@
 # submits the paper's drag experiment (Fig. 5: a disk pulled through a D2Q7 channel) through the
 # lbsolid CLI, waits for it, and writes under ./out:
 #   particles.h5   H5MD: the disk's particles and centre-of-mass velocity u(t), the scenario
+#                  (open particles.xdmf beside it in ParaView)
 #   fields.h5      density and velocity at the last step (open fields.xdmf in ParaView)
 #   status.json    state, steps, checksums of the files, error if any
 #   summary.txt    u(t), its exponential fit, the drag coefficient c_d and the Reynolds number
@@ -16,7 +17,7 @@ out=out
 data="$out/daemon-data"  # this run's daemon only: a rerun starts clean instead of recovering old sessions
 rm -rf "$data"
 mkdir -p "$out" "$data"
-rm -f "$out"/particles.h5 "$out"/fields.h5 "$out"/fields.xdmf "$out"/status.json "$out"/summary.txt
+rm -f "$out"/particles.h5 "$out"/particles.xdmf "$out"/fields.h5 "$out"/fields.xdmf "$out"/status.json "$out"/summary.txt
 
 build/server/lbsolidd --listen 127.0.0.1:0 --port_file "$data/port" --data_dir "$data" --log_level warn &
 daemon=$!
@@ -29,4 +30,4 @@ server="127.0.0.1:$(cat "$data/port")"
 echo "run: lbsolidd on $server; submitting $scenario"
 build/client-examples/cli/lbsolid --server "$server" submit "$scenario" --out "$out" "$@"
 build/client-examples/drag-summary/lbsolid-drag-summary "$out"
-echo "run: results in $out/ (summary.txt, particles.h5, fields.h5 + fields.xdmf, status.json)"
+echo "run: results in $out/ (summary.txt, particles.h5 + particles.xdmf, fields.h5 + fields.xdmf, status.json)"

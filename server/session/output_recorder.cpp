@@ -152,7 +152,11 @@ void OutputRecorder::materialize() {
   });
   if (h5md) h5md->close();
   std::vector<std::string> names;
-  if (h5md) names.push_back(kParticlesFile);
+  if (h5md) {
+    names.push_back(kParticlesFile);
+    const std::string xdmf = fs::path(storage::xdmf_path_for(kParticlesFile)).filename().string();
+    if (fs::exists(build / xdmf)) names.push_back(xdmf);  // written when there were particles
+  }
   if (fields) {
     names.push_back(kFieldsFile);
     names.push_back(fs::path(storage::xdmf_path_for(kFieldsFile)).filename().string());

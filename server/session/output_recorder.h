@@ -1,7 +1,7 @@
 #pragma once
 // A session's own recording (scenario.outputs): the thread that steps the session appends each
 // due frame to the session's frame log (recording/frame_log.h) right after its step; the files a
-// client downloads (particles.h5 in H5MD, fields.h5 with fields.xdmf) are made from the log when
+// client downloads (particles.h5 in H5MD with particles.xdmf, fields.h5 with fields.xdmf) are made from the log when
 // a client lists or downloads them and the log has grown since, each written to a temporary
 // directory and renamed into place. Checkpoints taken every checkpoint_every steps are listed with
 // them. Everything lives in data_dir/outputs/<session id>/ until the session is deleted.
@@ -21,7 +21,7 @@
 namespace lbsolid::server {
 
 struct OutputFile {
-  std::string name;  // "particles.h5", "fields.h5", "fields.xdmf", "checkpoints/step-000000100.h5"
+  std::string name;  // "particles.h5", "particles.xdmf", "fields.h5", "fields.xdmf", "checkpoints/step-000000100.h5"
   std::string path;
   long long bytes = 0;
   std::string sha256;  // of the whole file, lowercase hex

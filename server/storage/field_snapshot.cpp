@@ -4,6 +4,8 @@
 // the XDMF is rebuilt from the file alone (the groups carry everything it needs).
 #include "server/storage/field_snapshot.h"
 
+#include "server/storage/xdmf_text.h"
+
 #include <charconv>
 #include <cstdio>
 #include <filesystem>
@@ -91,21 +93,6 @@ std::string number(double value) {
   char text[32];
   const auto result = std::to_chars(text, text + sizeof text, value);  // shortest exact form
   return std::string(text, result.ptr);
-}
-
-std::string xml_escaped(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
-  return out;
 }
 
 std::string zyx(const std::vector<double>& xyz) { return number(xyz[2]) + " " + number(xyz[1]) + " " + number(xyz[0]); }
@@ -196,8 +183,5 @@ void append_field_snapshot(const std::string& h5_path, const scene::FluidFields&
   });
 }
 
-std::string xdmf_path_for(const std::string& h5_path) {
-  return std::filesystem::path(h5_path).replace_extension(".xdmf").string();
-}
 
 }  // namespace lbsolid::server::storage

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "scene/simulation.h"
+#include "server/storage/xdmf_text.h"  // xdmf_path_for
 
 namespace lbsolid::server::storage {
 
@@ -21,8 +22,5 @@ struct SnapshotGeometry {
 // file's earlier snapshots.
 void append_field_snapshot(const std::string& h5_path, const scene::FluidFields& fields, long step,
                            const SnapshotGeometry& geometry);
-
-// The XDMF path written beside `h5_path` (same stem, .xdmf).
-std::string xdmf_path_for(const std::string& h5_path);
 
 }  // namespace lbsolid::server::storage

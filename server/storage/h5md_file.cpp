@@ -10,12 +10,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <stdexcept>
 
 #include "server/storage/file_replace.h"
 #include "server/storage/hdf5_handles.h"
 #include "server/storage/hdf5_io.h"
+#include "server/storage/xdmf_text.h"
 
 namespace lbsolid::server::storage {
 namespace {
@@ -105,7 +107,7 @@ struct H5mdWriter::Impl {
   H5mdBox box;
   h5::File file;  // declared before the series: closed after their datasets
   std::map<std::string, Series> series;         // by group path
-  std::map<std::string, std::size_t> particles;  // particle count of each body
+  std::map<std::string, H5mdParticleSeries> particles;  // each body's particle count and frame steps
   std::vector<double> profile_y;
   bool closed = false;
 
@@ -161,6 +163,11 @@ struct H5mdWriter::Impl {
     series.clear();
     h5::check_status(file.close(), "cannot close");
     replace_durably(partial, path);
+    // ParaView's way in (xdmf_text.h); written only once the file it describes is in place.
+    if (!particles.empty())
+      write_text_file_replacing(xdmf_path_for(path),
+                                h5md_particles_xdmf(std::filesystem::path(path).filename().string(), box.dimension,
+                                                    particles));
   }
 };
 
@@ -211,17 +218,18 @@ void H5mdWriter::append_particles(const std::string& body, long step, const std:
                                 " and " + std::to_string(velocities.size()));
   const std::size_t count = positions.size() / dimension;
   const auto known = impl_->particles.find(body);
-  if (known != impl_->particles.end() && known->second != count)
+  if (known != impl_->particles.end() && known->second.particles != count)
     throw std::invalid_argument(impl_->context() + ": body " + body + " has " + std::to_string(count) +
-                                " particles, earlier frames had " + std::to_string(known->second));
+                                " particles, earlier frames had " + std::to_string(known->second.particles));
   h5::with_context(impl_->context(), [&] {
     if (known == impl_->particles.end()) {
       impl_->write_box(body);
-      impl_->particles[body] = count;
+      impl_->particles[body].particles = count;
     }
     const std::vector<hsize_t> shape{count, dimension};
     impl_->append("/particles/" + body + "/position", shape, step, positions.data());
     impl_->append("/particles/" + body + "/velocity", shape, step, velocities.data());
+    impl_->particles[body].steps.push_back(step);
   });
 }
 

@@ -12,6 +12,8 @@
 // append (chunked, unlimited first dimension). The file is written as <path>.partial-<pid>-<n>, a
 // name of this writer's own, and renamed to <path> by close(), so an interrupted writer never
 // leaves a half file under the final name, and two writers of one path never share a file.
+// With particles, close() then writes <stem>.xdmf beside it (xdmf_text.h: the particles as
+// Polyvertex grids for ParaView), through a temporary file and a rename.
 #include <array>
 #include <memory>
 #include <string>

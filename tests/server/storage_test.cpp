@@ -24,6 +24,7 @@
 #include <latch>
 #include <map>
 #include <mutex>
+#include <regex>
 #include <thread>
 
 #include "scene/restart_support.h"
@@ -762,7 +763,7 @@ TEST(H5mdFile, SeriesReadBackExactly) {
     H5mdWriter writer(path, "0.1.0", "scenario", kBox);
     write_sample_trajectory(writer);
   }  // the destructor closes
-  EXPECT_EQ(dir.entries(), std::vector<std::string>{"traj.h5md"});
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"traj.h5md", "traj.xdmf"}));
   const H5mdSeries position = read_h5md_series(path, "/particles/disk/position");
   EXPECT_EQ(position.step, (std::vector<long>{0, 100, 200}));
   EXPECT_EQ(position.time, (std::vector<double>{0, 100, 200}));
@@ -802,7 +803,7 @@ TEST(H5mdFile, AppearsUnderItsFinalNameOnlyWhenClosed) {
   ASSERT_EQ(partial.size(), 1u);
   EXPECT_EQ(partial[0].rfind("traj.h5md.partial-", 0), 0u) << partial[0];
   writer.close();
-  EXPECT_EQ(dir.entries(), std::vector<std::string>{"traj.h5md"});
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"traj.h5md", "traj.xdmf"}));
   EXPECT_THROW(writer.append_body("disk", 400, {0, 0, 0}, {0, 0, 0}), std::logic_error);
 }
 
@@ -820,7 +821,98 @@ TEST(H5mdFile, TwoWritersOfOnePathEachWriteTheirOwnFile) {
   EXPECT_EQ(read_h5md_series(path, "/observables/disk/velocity").step, (std::vector<long>{7}));
   first.close();  // the last to close gives the path its file
   EXPECT_EQ(read_h5md_series(path, "/particles/disk/position").step, (std::vector<long>{0, 100, 200}));
-  EXPECT_EQ(dir.entries(), std::vector<std::string>{"traj.h5md"});
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"traj.h5md", "traj.xdmf"}));
+}
+
+// The XDMF beside an H5MD file with particles (xdmf_text.h): a temporal collection, one step per
+// recorded frame, and for each body there a Polyvertex grid whose geometry and velocity are
+// hyperslabs of that frame. Checked against the H5MD file itself: every dataset named exists with
+// the dimensions the XDMF states, every slab lies inside it at the frame of its step, and a body
+// name with XML's special characters is escaped. Without particles there is no XDMF.
+struct Slab {
+  long start[3], count[3], dims[3];
+  std::string dataset;
+};
+
+std::vector<Slab> slabs_of(const std::string& xdmf) {
+  static const std::regex slab(
+      "<DataItem Dimensions=\"3 3\" Format=\"XML\">(\\d+) (\\d+) (\\d+) 1 1 1 (\\d+) (\\d+) (\\d+)</DataItem>"
+      "<DataItem Dimensions=\"(\\d+) (\\d+) (\\d+)\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">([^<]*)</DataItem>");
+  std::vector<Slab> out;
+  for (auto it = std::sregex_iterator(xdmf.begin(), xdmf.end(), slab); it != std::sregex_iterator(); ++it) {
+    Slab s;
+    for (int k = 0; k < 3; ++k) {
+      s.start[k] = std::stol((*it)[1 + k]);
+      s.count[k] = std::stol((*it)[4 + k]);
+      s.dims[k] = std::stol((*it)[7 + k]);
+    }
+    s.dataset = (*it)[10];
+    out.push_back(s);
+  }
+  return out;
+}
+
+TEST(H5mdFile, AnXdmfBesideItShowsTheParticlesToParaView) {
+  TempDir dir;
+  const std::string path = dir.file("run.h5"), odd = "tip<&\"'>", odd_escaped = "tip&lt;&amp;&quot;&apos;&gt;";
+  {
+    H5mdWriter writer(path, "0.1.0", "scenario", kBox);
+    write_sample_trajectory(writer);  // "disk": 3 frames at steps 0, 100, 200
+    writer.append_particles(odd, 100, {1, 2}, {0, 0});
+    writer.append_particles(odd, 200, {1, 3}, {0, 1});
+  }
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"run.h5", "run.xdmf"}));
+  const std::string xdmf = file_bytes(dir.file("run.xdmf"));
+  EXPECT_NE(xdmf.find("CollectionType=\"Temporal\""), std::string::npos);
+  EXPECT_EQ(xdmf.find(odd), std::string::npos) << "the body name must be escaped";
+  EXPECT_NE(xdmf.find("Name=\"" + odd_escaped + "\""), std::string::npos);
+  // The steps in order, then per step the grids of the bodies with a frame there.
+  std::vector<long> times;
+  static const std::regex time("<Time Value=\"(\\d+)\"/>");
+  for (auto it = std::sregex_iterator(xdmf.begin(), xdmf.end(), time); it != std::sregex_iterator(); ++it)
+    times.push_back(std::stol((*it)[1]));
+  EXPECT_EQ(times, (std::vector<long>{0, 100, 200}));
+  const auto count = [&](const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = xdmf.find(what); at != std::string::npos; at = xdmf.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("TopologyType=\"Polyvertex\""), 5u);  // disk at 3 steps, the other at 2
+  EXPECT_EQ(count("GeometryType=\"XY\""), 5u);
+  // 2D: a position and two velocity components per grid, each inside its dataset.
+  const auto slabs = slabs_of(xdmf);
+  ASSERT_EQ(slabs.size(), 15u);
+  for (const Slab& s : slabs) {
+    ASSERT_EQ(s.dataset.rfind("run.h5:/particles/", 0), 0u) << s.dataset;
+    std::string group = s.dataset.substr(std::string("run.h5:").size());
+    group = group.substr(0, group.rfind("/value"));
+    if (const auto at = group.find(odd_escaped); at != std::string::npos) group.replace(at, odd_escaped.size(), odd);
+    const H5mdSeries series = read_h5md_series(path, group);
+    EXPECT_EQ(s.dims[0], static_cast<long>(series.step.size())) << group;
+    EXPECT_EQ(s.dims[1], series.value_shape[0]) << group;
+    EXPECT_EQ(s.dims[2], series.value_shape[1]) << group;
+    EXPECT_LT(s.start[0], s.dims[0]) << group;
+    EXPECT_EQ(s.count[0], 1) << group;
+    EXPECT_EQ(s.count[1], s.dims[1]) << group;
+    EXPECT_LE(s.start[2] + s.count[2], s.dims[2]) << group;
+  }
+  // The odd body's first frame is step 100: in the grid at Time 100 its slab starts at frame 0.
+  const auto at_100 = xdmf.find("<Time Value=\"100\"/>");
+  const auto odd_grid = xdmf.find("Name=\"" + odd_escaped, at_100);
+  ASSERT_NE(odd_grid, std::string::npos);
+  EXPECT_LT(xdmf.find("Format=\"XML\">0 0 0 1 1 1 1 1 2</DataItem>", odd_grid), xdmf.find("<Time Value=\"200\"/>"));
+
+  // 3D: XYZ geometry and a velocity vector; no particles: no XDMF.
+  const H5mdBox box3{3, {8, 8, 8}, {true, true, true}};
+  {
+    H5mdWriter writer(dir.file("ball.h5"), "0.1.0", "scenario", box3);
+    writer.append_particles("ball", 0, {1, 2, 3, 4, 5, 6}, {0, 0, 1, 0, 0, 1});
+  }
+  const std::string xdmf3 = file_bytes(dir.file("ball.xdmf"));
+  EXPECT_NE(xdmf3.find("GeometryType=\"XYZ\""), std::string::npos);
+  EXPECT_NE(xdmf3.find("Name=\"velocity\" AttributeType=\"Vector\""), std::string::npos);
+  { H5mdWriter writer(dir.file("profile.h5"), "0.1.0", "scenario", kBox); writer.append_profile(0, {0, 1}, {0, 0}); }
+  EXPECT_FALSE(fs::exists(dir.file("profile.xdmf")));
 }
 
 TEST(H5mdFile, ChangingParticleCountIsRefused) {

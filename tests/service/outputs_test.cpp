@@ -94,7 +94,7 @@ TEST(Outputs, TheDaemonRecordsWhatTheScenarioDeclares) {
 
   std::vector<std::string> names;
   for (const auto& file : list_outputs(*stub, id)) names.push_back(file.name());
-  EXPECT_EQ(names, (std::vector<std::string>{"particles.h5", "fields.h5", "fields.xdmf",
+  EXPECT_EQ(names, (std::vector<std::string>{"particles.h5", "particles.xdmf", "fields.h5", "fields.xdmf",
                                              "checkpoints/step-000000050.h5", "checkpoints/step-000000100.h5"}));
 
   const std::string particles = dir.path + "/particles.h5";
