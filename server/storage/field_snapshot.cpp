@@ -100,11 +100,6 @@ std::string zyx(const std::vector<double>& xyz) { return number(xyz[2]) + " " + 
 std::string xdmf_text(const std::string& h5_basename, const std::vector<SnapshotRecord>& records) {
   const std::string file = xml_escaped(h5_basename);
   std::string x;
-  x += "<?xml version=\"1.0\" ?>\n";
-  x += "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n";
-  x += "<Xdmf Version=\"3.0\">\n";
-  x += "  <Domain>\n";
-  x += "    <Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const SnapshotRecord& r : records) {
     const std::string dims =
         std::to_string(r.shape[0]) + " " + std::to_string(r.shape[1]) + " " + std::to_string(r.shape[2]);
@@ -128,10 +123,7 @@ std::string xdmf_text(const std::string& h5_basename, const std::vector<Snapshot
     x += "        </Attribute>\n";
     x += "      </Grid>\n";
   }
-  x += "    </Grid>\n";
-  x += "  </Domain>\n";
-  x += "</Xdmf>\n";
-  return x;
+  return xdmf_temporal_document("fields", x);
 }
 
 // Appends the snapshot and returns every snapshot now in the file.

@@ -24,6 +24,20 @@ std::string xdmf_path_for(const std::string& h5_path) {
   return std::filesystem::path(h5_path).replace_extension(".xdmf").string();
 }
 
+std::string xdmf_temporal_document(const std::string& name, const std::string& grids) {
+  std::string x;
+  x += "<?xml version=\"1.0\" ?>\n";
+  x += "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n";
+  x += "<Xdmf Version=\"3.0\">\n";
+  x += "  <Domain>\n";
+  x += "    <Grid Name=\"" + xml_escaped(name) + "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  x += grids;
+  x += "    </Grid>\n";
+  x += "  </Domain>\n";
+  x += "</Xdmf>\n";
+  return x;
+}
+
 namespace {
 
 // A frame of a [frame][particle][dimension] dataset, components first..first+count-1.
@@ -48,11 +62,6 @@ std::string h5md_particles_xdmf(const std::string& h5_basename, int dimension,
   for (const auto& [name, series] : bodies) steps.insert(series.steps.begin(), series.steps.end());
   const std::string file = xml_escaped(h5_basename);
   std::string x;
-  x += "<?xml version=\"1.0\" ?>\n";
-  x += "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n";
-  x += "<Xdmf Version=\"3.0\">\n";
-  x += "  <Domain>\n";
-  x += "    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (long step : steps) {
     x += "      <Grid Name=\"step " + std::to_string(step) + "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
     x += "        <Time Value=\"" + std::to_string(step) + "\"/>\n";
@@ -81,10 +90,7 @@ std::string h5md_particles_xdmf(const std::string& h5_basename, int dimension,
     }
     x += "      </Grid>\n";
   }
-  x += "    </Grid>\n";
-  x += "  </Domain>\n";
-  x += "</Xdmf>\n";
-  return x;
+  return xdmf_temporal_document("particles", x);
 }
 
 }  // namespace lbsolid::server::storage

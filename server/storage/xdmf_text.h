@@ -13,6 +13,10 @@ std::string xml_escaped(const std::string& text);
 // The XDMF file for `path` (same stem, .xdmf): run.fields.h5 -> run.fields.xdmf.
 std::string xdmf_path_for(const std::string& h5_path);
 
+// An XDMF document whose domain is one temporal collection named `name` of the `grids` given (each
+// a <Grid> element with its <Time>, indented for the collection).
+std::string xdmf_temporal_document(const std::string& name, const std::string& grids);
+
 // What an H5MD file holds of one body's particles: its particle count and the step of each frame
 // of /particles/<body>/{position,velocity}/value [frame][particle][dimension].
 struct H5mdParticleSeries {
