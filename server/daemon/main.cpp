@@ -4,8 +4,10 @@
 // saves every session, then exits 0 (1 if a session could not be saved); the next start brings
 // them back under their old ids (those that were running PAUSED).
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/generic/async_generic_service.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/impl/server_builder_option.h>
 #include <spdlog/spdlog.h>
 
 #include <sys/resource.h>
@@ -36,6 +38,21 @@
 #include "server/session/thread_priority.h"
 #include "server/storage/file_replace.h"
 #include "server/version.h"
+
+namespace {
+
+// Leaves gRPC's reflection plugin out of a server. libgrpc++_reflection registers it for every
+// ServerBuilder when the library loads, so not calling InitProtoReflectionServerBuilderPlugin
+// does not turn it off (--reflection=false served it); a builder option may drop plugins.
+class WithoutReflection final : public grpc::ServerBuilderOption {
+ public:
+  void UpdateArguments(grpc::ChannelArguments*) override {}
+  void UpdatePlugins(std::vector<std::unique_ptr<grpc::ServerBuilderPlugin>>* plugins) override {
+    std::erase_if(*plugins, [](const auto& plugin) { return plugin->name().find("reflection") != std::string::npos; });
+  }
+};
+
+}  // namespace
 
 ABSL_FLAG(std::string, listen, "127.0.0.1:50051", "address to serve on; port 0 picks a free port");
 ABSL_FLAG(std::string, data_dir, "./lbsolid-data", "where checkpoints and saved sessions live");
@@ -78,6 +95,9 @@ ABSL_FLAG(absl::Duration, tls_reload_interval, absl::Minutes(1),
 ABSL_FLAG(bool, allow_insecure, false,
           "serve an address that is not loopback or a Unix socket without TLS or without authenticating callers");
 ABSL_FLAG(bool, reflection, true, "serve gRPC reflection (grpcurl, grpc_cli)");
+ABSL_FLAG(std::string, health_listen, "",
+          "a second address serving only the gRPC health service, in plaintext, for probes that speak no TLS "
+          "(Kubernetes' gRPC probes); it answers SERVING or NOT_SERVING and nothing else; empty: none");
 ABSL_FLAG(std::string, port_file, "", "if set, the port actually bound is written there (for tests and scripts)");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn or error");
 
@@ -234,7 +254,21 @@ int main(int argc, char** argv) {
   lbsolid::server::SimulationService service(*manager, authenticator, call_limits);
   grpc::EnableDefaultHealthCheckService(true);
   if (absl::GetFlag(FLAGS_reflection)) grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  // The probes' server: health alone.
+  grpc::CallbackGenericService unimplemented;
+  grpc::ServerBuilder health_builder;
+  int health_port = 0;
+  const std::string health_listen = absl::GetFlag(FLAGS_health_listen);
+  if (!health_listen.empty()) {
+    health_builder.AddListeningPort(health_listen, grpc::InsecureServerCredentials(), &health_port);
+    health_builder.SetOption(std::make_unique<WithoutReflection>());
+    // A server needs a service to poll for its calls; this one answers every method but health's
+    // UNIMPLEMENTED (gRPC's default reactor).
+    health_builder.RegisterCallbackGenericService(&unimplemented);
+    apply_connection_limits(health_builder);
+  }
   grpc::ServerBuilder builder;
+  if (!absl::GetFlag(FLAGS_reflection)) builder.SetOption(std::make_unique<WithoutReflection>());
   int port = 0;
   builder.AddListeningPort(transport.listen, *credentials, &port);
   builder.SetMaxReceiveMessageSize(kMaxMessageBytes);
@@ -244,9 +278,20 @@ int main(int argc, char** argv) {
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   // A Unix socket has no port: gRPC reports 1 for it.
   if (!server || port == 0) return fail_start("--listen: cannot serve on " + absl::GetFlag(FLAGS_listen));
-  server->GetHealthCheckService()->SetServingStatus(true);
+  std::unique_ptr<grpc::Server> health_server;
+  if (!health_listen.empty()) {
+    health_server = health_builder.BuildAndStart();
+    if (!health_server || health_port == 0) return fail_start("--health_listen: cannot serve on " + health_listen);
+  }
   // Probes that name the service (Kubernetes' gRPC probes) get the same answer as those that do not.
-  server->GetHealthCheckService()->SetServingStatus("lbsolid.v1.Simulation", true);
+  const auto set_serving = [&](bool serving) {
+    for (grpc::Server* s : {server.get(), health_server.get()}) {
+      if (!s) continue;
+      s->GetHealthCheckService()->SetServingStatus(serving);
+      s->GetHealthCheckService()->SetServingStatus("lbsolid.v1.Simulation", serving);
+    }
+  };
+  set_serving(true);
   if (!absl::GetFlag(FLAGS_port_file).empty()) {
     try {  // readers never see a half-written number
       lbsolid::server::storage::write_text_file_replacing(absl::GetFlag(FLAGS_port_file), absl::StrCat(port, "\n"));
@@ -256,13 +301,14 @@ int main(int argc, char** argv) {
   }
   spdlog::info(
       "lbsolidd {} ({}) serving lbsolid.v1 on {} (port {}, {}, {}), {} workers, data in {}, {} sessions recovered; "
-      "limits: {} MiB, {} particles, {} fluid threads; autosave every {}",
+      "limits: {} MiB, {} particles, {} fluid threads; autosave every {}{}",
       LBSOLID_VERSION, LBSOLID_GIT_REVISION, transport.listen, port,
       transport.tls_cert.empty() ? "plaintext" : (transport.tls_client_ca.empty() ? "TLS" : "mutual TLS"),
       tokens ? absl::StrCat(tokens->size(), " tokens") : std::string(authenticator->authenticates() ? "certificates" : "no authentication"),
       limits.workers,
       absl::GetFlag(FLAGS_data_dir), recovered, limits.max_memory_bytes >> 20, limits.max_particles,
-      limits.max_fluid_threads, absl::FormatDuration(autosave));
+      limits.max_fluid_threads, absl::FormatDuration(autosave),
+      health_server ? absl::StrCat("; health alone on ", health_listen, " (plaintext)") : std::string());
 
   int signal = 0;
   while (sigwait(&signals, &signal) == 0 && signal == SIGHUP) {
@@ -278,10 +324,10 @@ int main(int argc, char** argv) {
   // Runs stop where SIGTERM found them; then no more calls (new ones get UNAVAILABLE; those in
   // flight finish, or are cancelled after the grace period), so that nothing is answered OK after
   // its session was saved; then the saves.
-  server->GetHealthCheckService()->SetServingStatus(false);
-  server->GetHealthCheckService()->SetServingStatus("lbsolid.v1.Simulation", false);
+  set_serving(false);
   manager->pause_all();
   server->Shutdown(std::chrono::system_clock::now() + kShutdownGrace);
+  if (health_server) health_server->Shutdown(std::chrono::system_clock::now());
   const auto unsaved = manager->shutdown();
   manager.reset();
   if (unsaved.empty())

@@ -3,8 +3,12 @@
 // reload on SIGHUP), safe defaults (no plaintext and no unauthenticated callers off loopback
 // unless --allow_insecure), Unix sockets, audit lines without secrets, and owners that cannot
 // reach each other's sessions through any RPC.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
 #include <signal.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
@@ -14,6 +18,7 @@
 #include "service/coreutils_sha256.h"
 #include "service/daemon_process.h"
 #include "service/test_certificates.h"
+#include "reflection.grpc.pb.h"
 #include "service/test_scenarios.h"
 
 namespace lbsolid::testing {
@@ -125,6 +130,56 @@ TEST_F(RemoteAccess, OffLoopbackPlaintextOrUnauthenticatedCallersAreRefusedUnles
   EXPECT_TRUE(server_info(*allowed.stub()).ok());
   EXPECT_NE(log_of(log_).find("serving plaintext on 0.0.0.0:0"), std::string::npos) << log_of(log_);
   EXPECT_NE(log_of(log_).find("acts as admin"), std::string::npos) << log_of(log_);
+}
+
+// A loopback port that was free a moment ago (the kernel's pick for port 0).
+int free_loopback_port() {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof address;
+  const bool ok = bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0 &&
+                  getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0;
+  close(fd);
+  return ok ? ntohs(address.sin_port) : 0;
+}
+
+// Kubernetes' gRPC probes speak no TLS: --health_listen serves the health service alone, in
+// plaintext, on a second address beside the TLS API. There it answers SERVING by both names, and
+// nothing else is served (the API and reflection are UNIMPLEMENTED, so a caller who reaches the
+// probes' port reaches no session and not even the API's shape).
+TEST_F(RemoteAccess, AHealthAddressAnswersProbesInPlaintextAndNothingElse) {
+  const int port = free_loopback_port();
+  ASSERT_GT(port, 0);
+  const std::string health = "127.0.0.1:" + std::to_string(port);
+  auto flags = tls_flags(certs_.server_cert, certs_.server_key);
+  flags.push_back("--health_listen=" + health);
+  const Tls alice = with_token(certs_.ca, "alice-secret");
+  DaemonProcess daemon(dir_.path + "/data", flags, {}, {credentials_for(alice), log_});
+  EXPECT_TRUE(server_info(*stub_for(daemon, alice)).ok());
+
+  const auto plain = grpc::CreateChannel(health, grpc::InsecureChannelCredentials());
+  for (const char* service : {"", "lbsolid.v1.Simulation"}) {
+    std::string bytes;
+    const grpc::Status status = health_check(plain, &bytes, service);
+    ASSERT_TRUE(status.ok()) << service << ": " << status.error_message();
+    EXPECT_EQ(bytes, std::string("\x08\x01", 2)) << service;  // SERVING
+  }
+  EXPECT_TRUE(has_status(server_info(*v1::Simulation::NewStub(plain)), grpc::StatusCode::UNIMPLEMENTED));
+  auto reflection = grpc::reflection::v1alpha::ServerReflection::NewStub(plain);
+  auto context = deadline_context();
+  auto stream = reflection->ServerReflectionInfo(context.get());
+  grpc::reflection::v1alpha::ServerReflectionRequest list;
+  list.set_list_services("");
+  stream->Write(list);
+  stream->WritesDone();
+  grpc::reflection::v1alpha::ServerReflectionResponse ignored;
+  while (stream->Read(&ignored)) {
+  }
+  EXPECT_EQ(stream->Finish().error_code(), grpc::StatusCode::UNIMPLEMENTED);
+  EXPECT_NE(log_of(log_).find("health alone on " + health + " (plaintext)"), std::string::npos) << log_of(log_);
+  EXPECT_EQ(daemon.stop(SIGTERM), 0);
 }
 
 TEST_F(RemoteAccess, TlsWithTokensAuthenticatesEveryCallBeforeItReachesASession) {

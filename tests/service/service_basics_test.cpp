@@ -101,6 +101,31 @@ TEST_F(ServiceBasics, ReflectionListsAndDescribesTheService) {
   EXPECT_TRUE(stream->Finish().ok());
 }
 
+// --reflection=false: reflection answers UNIMPLEMENTED (gRPC's reflection library registers its
+// plugin for every server when it loads, so leaving it unregistered did not turn it off); the API
+// and health are served as before.
+TEST(Reflection, CanBeTurnedOff) {
+  const ScopedDirectory dir("lbsolid-no-reflection");
+  DaemonProcess daemon(dir.path, {"--reflection=false"});
+  using namespace grpc::reflection::v1alpha;
+  auto reflection = ServerReflection::NewStub(daemon.channel());
+  auto context = deadline_context();
+  auto stream = reflection->ServerReflectionInfo(context.get());
+  ServerReflectionRequest list;
+  list.set_list_services("");
+  stream->Write(list);
+  stream->WritesDone();
+  ServerReflectionResponse ignored;
+  while (stream->Read(&ignored)) {
+  }
+  EXPECT_EQ(stream->Finish().error_code(), grpc::StatusCode::UNIMPLEMENTED);
+  std::string bytes;
+  EXPECT_TRUE(health_check(daemon.channel(), &bytes).ok());
+  v1::ServerInfo info;
+  auto info_context = deadline_context();
+  EXPECT_TRUE(daemon.stub()->GetServerInfo(info_context.get(), {}, &info).ok());
+}
+
 TEST_F(ServiceBasics, SessionRunsToDoneAndItsFieldsEqualTheCoreRunInProcess) {
   const auto scenario = small_channel_with_disk();
   v1::CreateSessionRequest create;
