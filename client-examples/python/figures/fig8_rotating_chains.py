@@ -71,14 +71,13 @@ within the first ~30 strain, at every stress alike. About 5.5 minutes on two sha
     /usr/bin/python3 client-examples/python/figures/fig8_rotating_chains.py [--quick] [--out DIR] [--address HOST:PORT]
 """
 import math
-import threading
 from dataclasses import dataclass
 
 import matplotlib.pyplot as plt
 import numpy as np
 
 import chains_common as cc
-from figure_common import Row, run_figure, write_csv
+from figure_common import Row, run_figure, run_in_parallel, write_csv
 from lbsolid_client import scenario_pb2 as sc
 
 FIGURE = "fig8_rotating_chains"
@@ -157,40 +156,21 @@ def record(session, steps, profiles_every, frames_every):
                   np.array([f[2] for f in frames], dtype=float).reshape(len(frames), chains))
 
 
+def run_job(client, job):
+    """One job's session: created, recorded, deleted (whatever happened)."""
+    session = client.create(job.scenario)
+    try:
+        return record(session, job.steps, job.profiles_every, job.frames_every)
+    finally:
+        try:
+            session.delete()
+        except Exception:  # noqa: BLE001  (cleanup only)
+            pass
+
+
 def run_jobs(client, jobs):
-    """Runs every job, IN_FLIGHT at a time, longest first; name -> Record. Re-raises the first
-    failure with the session's name (a diverged session names its step)."""
-    queue = sorted(jobs, key=lambda j: -j.steps)
-    records, errors, lock = {}, [], threading.Lock()
-
-    def worker():
-        while True:
-            with lock:
-                if not queue or errors:
-                    return
-                job = queue.pop(0)
-            try:
-                session = client.create(job.scenario)
-                try:
-                    records[job.name] = record(session, job.steps, job.profiles_every, job.frames_every)
-                finally:
-                    try:
-                        session.delete()
-                    except Exception:  # noqa: BLE001  (cleanup only)
-                        pass
-            except Exception as error:  # noqa: BLE001  (reported below, with the session's name)
-                with lock:
-                    errors.append((job.name, error))
-
-    threads = [threading.Thread(target=worker) for _ in range(IN_FLIGHT)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
-    if errors:
-        name, error = errors[0]
-        raise RuntimeError(f"session {name} failed: {error}") from error
-    return records
+    """Every job, IN_FLIGHT at a time, longest first; name -> Record."""
+    return run_in_parallel([(job.name, job.steps, lambda job=job: run_job(client, job)) for job in jobs], IN_FLIGHT)
 
 
 def suspension(setup: Setup, sigma: float, kind: str, omega: float = 1.0):

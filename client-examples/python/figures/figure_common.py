@@ -9,6 +9,7 @@ and ends with `if __name__ == "__main__": run_figure(draw, FIGURE)`.
 import argparse
 import csv
 import sys
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -94,3 +95,34 @@ def run_figure(draw, figure: str, argv=None):
     if args.strict and failed_checks(rows):
         sys.exit(1)
     return rows
+
+
+def run_in_parallel(tasks, in_flight: int) -> dict:
+    """tasks: (name, cost, work) triples, work() -> result. Runs them `in_flight` at a time, the
+    costliest first (so the long runs do not end alone), and returns name -> result in the tasks'
+    order. Stops starting new ones after a failure and re-raises the first, with its task's name
+    (a diverged session names its step)."""
+    queue = sorted(tasks, key=lambda t: -t[1])
+    results, errors, lock = {}, [], threading.Lock()
+
+    def worker():
+        while True:
+            with lock:
+                if not queue or errors:
+                    return
+                name, _, work = queue.pop(0)
+            try:
+                results[name] = work()
+            except Exception as error:  # noqa: BLE001  (reported below, with the task's name)
+                with lock:
+                    errors.append((name, error))
+
+    threads = [threading.Thread(target=worker) for _ in range(in_flight)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    if errors:
+        name, error = errors[0]
+        raise RuntimeError(f"run {name!r} failed: {error}") from error
+    return {name: results[name] for name, _, _ in tasks}

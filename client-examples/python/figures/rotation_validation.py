@@ -63,7 +63,7 @@ import grpc
 import matplotlib.pyplot as plt
 import numpy as np
 
-from figure_common import Row, run_figure, write_csv
+from figure_common import Row, run_figure, run_in_parallel, write_csv
 from lbsolid_client import scenario_pb2 as sc, simulation_pb2 as pb
 
 FIGURE = "rotation_validation"
@@ -302,34 +302,14 @@ class Job:
 
 
 def run_jobs(client, jobs):
-    """Runs the jobs IN_FLIGHT at a time, longest first; name -> result. Re-raises the first failure
-    with the job's name (a diverged session names its step)."""
-    queue = sorted(jobs, key=lambda j: -j.cost)
-    results, errors, lock = {}, [], threading.Lock()
+    """The jobs IN_FLIGHT at a time, costliest first; name -> result."""
+    def timed(job):
+        started = time.monotonic()
+        result = job.run(client)
+        print(f"  {job.name}: {time.monotonic() - started:.1f} s", flush=True)
+        return result
 
-    def worker():
-        while True:
-            with lock:
-                if not queue or errors:
-                    return
-                job = queue.pop(0)
-            try:
-                started = time.monotonic()
-                results[job.name] = job.run(client)
-                print(f"  {job.name}: {time.monotonic() - started:.1f} s", flush=True)
-            except Exception as error:  # noqa: BLE001  (reported below, with the job's name)
-                with lock:
-                    errors.append((job.name, error))
-
-    threads = [threading.Thread(target=worker) for _ in range(IN_FLIGHT)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
-    if errors:
-        name, error = errors[0]
-        raise RuntimeError(f"run '{name}' failed: {error}") from error
-    return {job.name: results[job.name] for job in jobs}
+    return run_in_parallel([(job.name, job.cost, lambda job=job: timed(job)) for job in jobs], IN_FLIGHT)
 
 
 def watched(client, scenario, body, every, work, stop=None):
