@@ -277,6 +277,7 @@ template <class L, class T>
 void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const Vec3* dp, long count) {
   if (!stepped_) throw std::logic_error("add_momentum: no step has produced post-collision populations yet");
   T* f = storage_.buffer(in_place() ? 0 : current_);
+  const bool prefetch = worth_prefetching(nodes, count);
   long row_part = -1;  // of the slots below
   std::array<long, Q> offset{};
   for (long k = 0; k < count; ++k) {
@@ -286,6 +287,7 @@ void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const Vec3* dp, lon
       offset = injection_slots(plans_.for_row(y, z), part);
       row_part = here;
     }
+    if (prefetch && k + kPrefetchAhead < count) prefetch_node(f, nodes[k + kPrefetchAhead], offset, /*for_write=*/true);
     T* at = f + cell(x, y, z);
     for (int i = 0; i < Q; ++i) {
       const double c_dot_dp = L::c[i][0] * dp[k][0] + L::c[i][1] * dp[k][1] + L::c[i][2] * dp[k][2];
@@ -331,6 +333,7 @@ std::array<T, L::Q> FluidLattice<L, T>::gather_in_row(const RowPlan<T, L::Q>& pl
 template <class L, class T>
 void FluidLattice<L, T>::gather_momenta(const NodeIndex* nodes, long count, DensityMomentum* out) const {
   const T* f = storage_.buffer(in_place() ? 0 : current_);
+  const bool prefetch = worth_prefetching(nodes, count);
   long row_part = -1;  // of the plan and slots below
   const RowPlan<T, Q>* plan = nullptr;
   RowSlots slots{};
@@ -342,6 +345,7 @@ void FluidLattice<L, T>::gather_momenta(const NodeIndex* nodes, long count, Dens
       slots = read_slots(*plan, part);
       row_part = here;
     }
+    if (prefetch && k + kPrefetchAhead < count) prefetch_node(f, nodes[k + kPrefetchAhead], slots.offset, /*for_write=*/false);
     const T* at = f + cell(x, y, z);
     std::array<T, Q> g;
     for (int i = 0; i < Q; ++i) g[i] = at[slots.offset[i]] + slots.correction[i];

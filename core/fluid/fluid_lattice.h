@@ -11,6 +11,7 @@
 // in the other order, which agrees to round-off: momentum_injection_test.cpp).
 // initialize() sets that gathered state to the equilibrium of the given fields.
 #include <array>
+#include <cstdint>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -121,6 +122,31 @@ class FluidLattice {
   };
   RowSlots read_slots(const RowPlan<T, L::Q>& plan, int part) const;
   std::array<long, L::Q> injection_slots(const RowPlan<T, L::Q>& plan, int part) const;
+  // The batched calls ask for a later node's populations while they work on this one: a lone
+  // node's Q populations lie in Q arrays, Q cache misses that would otherwise be waited for one
+  // node at a time (3D suspension, 1 thread: the exchange 105-117 -> 45-48 ns a particle). Not in
+  // a batch of mostly consecutive cells (a dense 2D sheet): the hardware prefetcher streams
+  // those, and asking again cost 1-2 ns a node. Skipping only the nodes just a run of cells
+  // ahead lost all of the 3D gain: a ball's short rows do not start the hardware's streams.
+  static constexpr long kPrefetchAhead = 8;
+  bool worth_prefetching(const NodeIndex* nodes, long count) const {
+    if (count <= kPrefetchAhead) return false;
+    const NodeIndex& first = nodes[0];
+    const NodeIndex& last = nodes[count - 1];
+    return cell(last[0], last[1], last[2]) - cell(first[0], first[1], first[2]) > 2 * count;
+  }
+  // The later node's slots are taken to be this node's (exact within a row part, close
+  // elsewhere: a prefetch needs no exact address).
+  void prefetch_node(const T* f, const NodeIndex& node, const std::array<long, L::Q>& offset, bool for_write) const {
+    // As an integer: a guessed slot may lie outside the arrays, where a pointer may not point.
+    const std::uintptr_t base = reinterpret_cast<std::uintptr_t>(f);
+    const long c = cell(node[0], node[1], node[2]);
+    for (int i = 0; i < Q; ++i) {
+      const auto* address = reinterpret_cast<const void*>(base + (c + offset[i]) * sizeof(T));
+      if (for_write) __builtin_prefetch(address, 1);
+      else __builtin_prefetch(address, 0);
+    }
+  }
   std::array<T, L::Q> gather(int x, int y, int z) const;  // shifted populations at time t
   std::array<T, L::Q> gather_in_row(const RowPlan<T, L::Q>& plan, int x, long cell) const;
   DensityMomentum density_momentum_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
