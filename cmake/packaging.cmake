@@ -2,8 +2,8 @@
 # lbsolid_<version>_<arch>.deb. Its dependencies are Debian's runtime packages: the shared
 # libraries the binaries link (gRPC, protobuf, Abseil, HDF5, spdlog, ...) as dpkg-shlibdeps finds
 # them, and the Python client's modules as Recommends (the binaries run without them).
-# The binaries are built as configured: with LBSOLID_NATIVE=ON (the default) the package runs
-# only on CPUs like the build machine's; build with -DLBSOLID_NATIVE=OFF for a portable one.
+# The binaries are built as configured: by default (LBSOLID_NATIVE=OFF) the package runs on any
+# x86-64 CPU; with LBSOLID_NATIVE=ON only on CPUs like the build machine's.
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME lbsolid)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})

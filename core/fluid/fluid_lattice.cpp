@@ -5,6 +5,7 @@
 
 #include "fluid/bgk_collision.h"
 #include "fluid/in_place_kernel.h"
+#include "fluid/kernel_isa.h"
 #include "fluid/regularized_collision.h"
 #include "fluid/stream_collide_kernel.h"
 #include "fluid/trt_collision.h"
@@ -187,22 +188,30 @@ void FluidLattice<L, T>::launch() {
   const auto& plans = plans_;
   // One kernel per (scheme, phase, force) combination; each of config_.threads row ranges goes
   // to one thread of the pool.
+  // Each part of the rows runs the kernel compiled for the CPU's instruction set (kernel_isa.h).
+  const KernelIsa isa = kernel_isa();
   auto run_kernel = [&]<bool kForce>(std::bool_constant<kForce>) {
     if (!in_place()) {
       const T* src = storage_.buffer(current_);
       T* dst = storage_.buffer(current_ ^ 1);
       pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
-        stream_collide_rows<L, T, Collision, kForce>(plans, src, dst, stride, nx, begin, end, rates, rho0);
+        run_with_isa(isa, [&]() LBSOLID_FORCE_INLINE_LAMBDA {
+          stream_collide_rows<L, T, Collision, kForce>(plans, src, dst, stride, nx, begin, end, rates, rho0);
+        });
       });
     } else if (pulled_) {
       T* f = storage_.buffer(0);
       pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
-        stream_collide_in_place_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
+        run_with_isa(isa, [&]() LBSOLID_FORCE_INLINE_LAMBDA {
+          stream_collide_in_place_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
+        });
       });
     } else {
       T* f = storage_.buffer(0);
       pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
-        collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
+        run_with_isa(isa, [&]() LBSOLID_FORCE_INLINE_LAMBDA {
+          collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
+        });
       });
     }
   };

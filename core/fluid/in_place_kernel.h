@@ -12,13 +12,14 @@
 //              so the slots a cell reads are exactly the slots it writes and cells never collide
 //              (FluidLattice checks this once per configuration).
 #include "fluid/cell_update.h"
+#include "fluid/force_inline.h"
 #include "fluid/row_plan.h"
 #include "lattice/lattice_traits.h"
 
 namespace lbsolid::fluid {
 
 template <class L, class T, class Collision, bool kForce>
-void collide_local_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
+LBSOLID_FORCE_INLINE void collide_local_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
                         long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
   constexpr int Q = L::Q;
   constexpr auto opp = lattice::opposite_table<L>();
@@ -41,14 +42,14 @@ void collide_local_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
 }
 
 template <class L, class T, class Collision, bool kForce>
-void stream_collide_in_place_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
+LBSOLID_FORCE_INLINE void stream_collide_in_place_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
                                   long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
   constexpr int Q = L::Q;
   constexpr auto opp = lattice::opposite_table<L>();
   for (long row = row_begin; row < row_end; ++row) {
     const auto& plan = plans.for_row(row);
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
-    auto sweep = [&](int part, long begin, long end) {
+    auto sweep = [&](int part, long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
       const T* in[Q];
       T* slot[Q];
       T corr[Q];

@@ -9,16 +9,17 @@
 // again with their own plan, overwriting what the long sweep wrote there. Every read of the sweep
 // stays inside the buffer: its two ends are interior cells, whose sources are real cells.
 #include "fluid/cell_update.h"
+#include "fluid/force_inline.h"
 #include "fluid/row_plan.h"
 
 namespace lbsolid::fluid {
 
 template <class L, class T, class Collision, bool kForce>
-void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long stride, int nx,
+LBSOLID_FORCE_INLINE void stream_collide_rows(const RowPlans<L, T>& plans, const T* src, T* dst, long stride, int nx,
                          long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
   constexpr int Q = L::Q;
   // Updates cells [begin, end) reading population i at cell + sources[i].delta.
-  auto sweep = [&](const RowPlan<T, Q>& plan, int part, long begin, long end) {
+  auto sweep = [&](const RowPlan<T, Q>& plan, int part, long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
     const T* in[Q];
     T* out[Q];
     T corr[Q];

@@ -31,6 +31,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/time/time.h"
+#include "fluid/kernel_isa.h"
 #include "server/auth/transport.h"
 #include "server/service/simulation_service.h"
 #include "server/session/session_manager.h"
@@ -156,6 +157,7 @@ int main(int argc, char** argv) {
   absl::ParseCommandLine(argc, argv);
   spdlog::set_level(spdlog::level::from_str(absl::GetFlag(FLAGS_log_level)));
   spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
+  if (const std::string error = lbsolid::fluid::kernel_isa_environment_error(); !error.empty()) return fail_start(error);
 
   lbsolid::server::ManagerLimits limits;
   limits.workers = absl::GetFlag(FLAGS_workers);
@@ -302,13 +304,13 @@ int main(int argc, char** argv) {
   }
   spdlog::info(
       "lbsolidd {} ({}) serving lbsolid.v1 on {} (port {}, {}, {}), {} workers, data in {}, {} sessions recovered; "
-      "limits: {} MiB, {} particles, {} fluid threads; autosave every {}{}",
+      "limits: {} MiB, {} particles, {} fluid threads; autosave every {}; fluid kernels for {}{}",
       LBSOLID_VERSION, LBSOLID_GIT_REVISION, transport.listen, port,
       transport.tls_cert.empty() ? "plaintext" : (transport.tls_client_ca.empty() ? "TLS" : "mutual TLS"),
       tokens ? absl::StrCat(tokens->size(), " tokens") : std::string(authenticator->authenticates() ? "certificates" : "no authentication"),
       limits.workers,
       absl::GetFlag(FLAGS_data_dir), recovered, limits.max_memory_bytes >> 20, limits.max_particles,
-      limits.max_fluid_threads, absl::FormatDuration(autosave),
+      limits.max_fluid_threads, absl::FormatDuration(autosave), lbsolid::fluid::kernel_isa_name(lbsolid::fluid::kernel_isa()),
       health_server ? absl::StrCat("; health alone on ", health_listen, " (plaintext)") : std::string());
 
   int signal = 0;

@@ -21,6 +21,7 @@
 #include "bench/memory_bandwidth.h"
 #include "bench/scene_bench.h"
 #include "fluid/fluid_lattice.h"
+#include "fluid/kernel_isa.h"
 #include "lattice/d2q7.h"
 #include "lattice/d2q9.h"
 #include "lattice/d3q19.h"
@@ -107,6 +108,10 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  if (const std::string error = fluid::kernel_isa_environment_error(); !error.empty()) {
+    std::fprintf(stderr, "lbsolid-bench: %s\n", error.c_str());
+    return 2;
+  }
   const std::size_t llc = last_level_cache_bytes();
   // Working sets of 8x the last-level cache (quick: 4x) leave no doubt the cache cannot hold them.
   const std::size_t working_set = (quick ? 4 : 8) * llc;
@@ -160,8 +165,8 @@ int main(int argc, char** argv) {
   for (int threads : thread_counts)
     for (SceneRow& row : run_scene_benchmarks(quick, threads)) scene_rows.push_back(std::move(row));
   if (json) {
-    std::printf("{\n  \"last_level_cache_bytes\": %zu,\n  \"working_set_bytes\": %zu,\n  \"results\": [\n", llc,
-                working_set);
+    std::printf("{\n  \"kernel_isa\": \"%s\",\n  \"last_level_cache_bytes\": %zu,\n  \"working_set_bytes\": %zu,\n  \"results\": [\n",
+                fluid::kernel_isa_name(fluid::kernel_isa()), llc, working_set);
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const Row& r = rows[k];
       std::printf("    {\"lattice\": \"%s\", \"precision\": \"%s\", \"streaming\": \"%s\", \"threads\": %d, \"cells\": %ld, "
@@ -188,8 +193,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::printf("lbsolid-bench: fused BGK stream-collide, periodic box, in-place (AA) and two-buffer streaming\n");
-  std::printf("last-level cache %.0f MiB; working set %.0f MiB per run\n\n", llc / 1048576.0,
-              working_set / 1048576.0);
+  std::printf("last-level cache %.0f MiB; working set %.0f MiB per run; kernels for %s\n\n", llc / 1048576.0,
+              working_set / 1048576.0, fluid::kernel_isa_name(fluid::kernel_isa()));
   std::printf("%-6s %-7s %-10s %7s %10s %9s %11s %12s %14s %9s\n", "lattice", "prec", "streaming", "threads", "cells", "MLUPS",
               "bytes/cell", "stream GB/s", "roofline MLUPS", "fraction");
   for (const Row& r : rows) {
