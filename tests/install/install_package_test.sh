@@ -47,7 +47,8 @@ dpkg-deb -x "$deb" "$root"
 for f in usr/bin/lbsolidd usr/bin/lbsolid usr/bin/lbsolid-drag-summary usr/lib/systemd/system/lbsolidd.service \
          usr/share/lbsolid/proto/lbsolid/v1/simulation.proto usr/share/lbsolid/proto/lbsolid/v1/scenario.proto \
          usr/share/lbsolid/scenarios/fig5_drag_disk.textproto usr/lib/python3/dist-packages/lbsolid_client/client.py \
-         usr/lib/python3/dist-packages/lbsolid/v1/simulation_pb2_grpc.py usr/share/doc/lbsolid/README.md; do
+         usr/lib/python3/dist-packages/lbsolid/v1/simulation_pb2_grpc.py usr/share/doc/lbsolid/README.md \
+         usr/share/doc/lbsolid/docs/internals.md; do
   [ -e "$root/$f" ] || fail "the package lacks /$f"
 done
 outside=$(cd "$root" && find . -type f ! -path './usr/*' | head -n 3)

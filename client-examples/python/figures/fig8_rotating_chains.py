@@ -4,7 +4,7 @@ The paper (section 4, conclusions) finds that chains perpendicular to a shear fl
 apparent viscosity while the fluid stays Newtonian (Fig. 6: gradient linear in stress), because its
 chains cannot turn; it expects chains that can rotate to give "a non Newtonian behavior", set by
 "the characteristic time for the response of the polymers to a local velocity gradient and the time
-for the rotation". Here the same chains get `rotation: true` (co-rotational springs, README
+for the rotation". Here the same chains get `rotation: true` (co-rotational springs, docs/internals.md
 "Rotating bodies") and the apparent viscosity is measured over a decade of stress.
 
 Set-up (chains_common.py, as Fig. 6): D2Q7, omega = 1 (nu = 1/8), a channel periodic in x between

@@ -2,7 +2,7 @@
 redrawn through the daemon, each beside the set-up, expected result and bound of its C++ test.
 
 The paper's solid cannot turn: its springs keep their rest vectors, so a turned body is pulled back.
-A body with `rotation: true` gets co-rotational springs (README, "Rotating bodies"): its springs'
+A body with `rotation: true` gets co-rotational springs (docs/internals.md, "Rotating bodies"): its springs'
 rest frame is the best-fit rotation of its particles, found after every step. The body frames
 streamed by the daemon carry the best fit (2D: `orientation`, an angle in (-pi, pi], unwrapped
 here frame to frame; 3D: `orientation_quaternion`), the angular momentum about the centre of mass
