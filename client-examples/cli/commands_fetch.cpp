@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "commands.h"
+#include "daemon_placement.h"
 #include "field_fetch.h"
 #include "json_writer.h"
 #include "output_download.h"
@@ -20,7 +21,7 @@ int cmd_fetch(const CommandLine& line) {
   std::filesystem::create_directories(dir, error);
   if (error) throw CliError(kExitBadInput, dir.string() + ": " + error.message());
 
-  Daemon daemon(line.global);
+  Daemon daemon(daemon_of_session(line.global, session_id));
   CommandResult result;
   result.command = line.command;
   result.session_id = session_id;

@@ -1,5 +1,6 @@
 // The commands that act on one session (or list them) with a single unary call, and run --wait.
 #include "commands.h"
+#include "daemon_placement.h"
 #include "json_writer.h"
 #include "message_format.h"
 #include "progress_bar.h"
@@ -22,7 +23,7 @@ int print_session(const CommandLine& line, const Session& session, int exit_code
 template <class Request>
 int session_call(const CommandLine& line, const char* rpc,
                  grpc::Status (Stub::*method)(grpc::ClientContext*, const Request&, Session*)) {
-  Daemon daemon(line.global);
+  Daemon daemon(daemon_of_session(line.global, line.positional.at(0)));
   Request request;
   request.set_session_id(line.positional.at(0));
   return print_session(line, daemon.call(rpc, method, request));
@@ -35,7 +36,7 @@ int outcome_exit_code(const Session& session) {
 }
 
 int cmd_status(const CommandLine& line) {
-  Daemon daemon(line.global);
+  Daemon daemon(daemon_of_session(line.global, line.positional.at(0)));
   lbsolid::v1::GetSessionRequest request;
   request.set_session_id(line.positional.at(0));
   const Session session = daemon.call("GetSession", &Stub::GetSession, request);
@@ -44,13 +45,17 @@ int cmd_status(const CommandLine& line) {
 }
 
 int cmd_list(const CommandLine& line) {
-  Daemon daemon(line.global);
-  const auto response = daemon.call("ListSessions", &Stub::ListSessions, lbsolid::v1::ListSessionsRequest());
   std::vector<std::string> sessions;
   std::string text;
-  for (const auto& s : response.sessions()) {
-    sessions.push_back(session_json(s, /*with_scenario=*/false));  // `status ID` shows a scenario
-    text += session_line(s) + "\n";
+  for (const std::string& server : listed_servers(line.global.server)) {  // every daemon's, in --server order
+    GlobalOptions one = line.global;
+    one.server = server;
+    Daemon daemon(one);
+    const auto response = daemon.call("ListSessions", &Stub::ListSessions, lbsolid::v1::ListSessionsRequest());
+    for (const auto& s : response.sessions()) {
+      sessions.push_back(session_json(s, /*with_scenario=*/false));  // `status ID` shows a scenario
+      text += session_line(s) + "\n";
+    }
   }
   if (text.empty()) text = "no sessions";
   CommandResult result;
@@ -60,7 +65,7 @@ int cmd_list(const CommandLine& line) {
 }
 
 int cmd_info(const CommandLine& line) {
-  Daemon daemon(line.global);
+  Daemon daemon(first_daemon(line.global));
   const auto info = daemon.call("GetServerInfo", &Stub::GetServerInfo, lbsolid::v1::GetServerInfoRequest());
   if (info.api_version() != "lbsolid.v1")
     std::fprintf(stderr, "lbsolid: warning: the daemon speaks %s, this client lbsolid.v1\n",
@@ -73,7 +78,7 @@ int cmd_info(const CommandLine& line) {
 
 int cmd_run(const CommandLine& line) {
   const RunOptions options = run_options(line);
-  Daemon daemon(line.global);
+  Daemon daemon(daemon_of_session(line.global, options.session_id));
   lbsolid::v1::RunRequest request;
   request.set_session_id(options.session_id);
   request.set_steps(options.steps);
@@ -90,7 +95,7 @@ int cmd_resume(const CommandLine& line) { return session_call(line, "Resume", &S
 int cmd_cancel(const CommandLine& line) { return session_call(line, "Cancel", &Stub::Cancel); }
 
 int cmd_delete(const CommandLine& line) {
-  Daemon daemon(line.global);
+  Daemon daemon(daemon_of_session(line.global, line.positional.at(0)));
   lbsolid::v1::DeleteSessionRequest request;
   request.set_session_id(line.positional.at(0));
   daemon.call("DeleteSession", &Stub::DeleteSession, request);
@@ -102,7 +107,7 @@ int cmd_delete(const CommandLine& line) {
 }
 
 int cmd_checkpoint(const CommandLine& line) {
-  Daemon daemon(line.global);
+  Daemon daemon(daemon_of_session(line.global, line.positional.at(0)));
   lbsolid::v1::CheckpointRequest request;
   request.set_session_id(line.positional.at(0));
   const auto checkpoint = daemon.call("Checkpoint", &Stub::Checkpoint, request);
@@ -116,7 +121,7 @@ int cmd_checkpoint(const CommandLine& line) {
 }
 
 int cmd_restore(const CommandLine& line) {
-  Daemon daemon(line.global);
+  Daemon daemon(first_daemon(line.global));
   lbsolid::v1::RestoreRequest request;
   request.set_checkpoint_id(line.positional.at(0));
   // A request id always, so that retrying after a lost answer does not restore twice.

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "commands.h"
+#include "daemon_placement.h"
 #include "message_format.h"
 #include "progress_bar.h"
 #include "result_writer.h"
@@ -78,11 +79,11 @@ int cmd_submit(const CommandLine& line) {
     prepare_output_directory(options.out_dir);
     declare_outputs(scenario, options);
   }
-  Daemon daemon(line.global);
-
   lbsolid::v1::CreateSessionRequest create;
   *create.mutable_scenario() = scenario;
   create.set_request_id(options.request_id.empty() ? random_request_id() : options.request_id);
+  // Of several daemons, the least loaded, or the one a retry of this request id reached before.
+  Daemon daemon(daemon_for_new_session(line.global, options.request_id));
   const Session created = daemon.call("CreateSession", &Stub::CreateSession, create);
   // Near-edge parameters (omega above 1.95, ...) run, but the user should know (stderr: --json
   // keeps stdout to one object, which carries them too).

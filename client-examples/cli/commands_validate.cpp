@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "daemon_placement.h"
 #include "json_writer.h"
 #include "rpc_client.h"
 #include "scenario_file.h"
@@ -26,7 +27,7 @@ int cmd_validate(const CommandLine& line) {
   const std::string& file = line.positional[0];
   lbsolid::v1::ValidateScenarioRequest request;
   *request.mutable_scenario() = load_scenario(file, line.all("set"));
-  Daemon daemon(line.global);
+  Daemon daemon(first_daemon(line.global));
   const auto answer = daemon.call("ValidateScenario", &Stub::ValidateScenario, request);
   const std::vector<std::string> problems(answer.problems().begin(), answer.problems().end());
   const std::vector<std::string> warnings(answer.warnings().begin(), answer.warnings().end());

@@ -1,6 +1,7 @@
 // watch: one line per frame of a session's profiles or particles, until the session ends or
 // --frames K frames have been printed.
 #include "commands.h"
+#include "daemon_placement.h"
 #include "message_format.h"
 #include "rpc_client.h"
 
@@ -37,7 +38,7 @@ int print_frames(const CommandLine& line, const char* rpc, grpc::ClientContext& 
 
 int cmd_watch(const CommandLine& line) {
   const WatchOptions options = watch_options(line);
-  Daemon daemon(line.global);
+  Daemon daemon(daemon_of_session(line.global, options.session_id));
   const auto delivery =
       options.lossless ? lbsolid::v1::DELIVERY_MODE_EVERY_FRAME : lbsolid::v1::DELIVERY_MODE_LATEST_FRAME;
   // No deadline: the stream lasts as long as the session runs; channel keepalive watches the link.

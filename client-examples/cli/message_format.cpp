@@ -82,7 +82,8 @@ std::string session_json(const lbsolid::v1::Session& s, bool with_scenario) {
       .number("mlups", s.mlups())
       .integer("created_unix_ms", s.created_unix_ms())
       .string("request_id", s.request_id())
-      .string("owner", s.owner());
+      .string("owner", s.owner())
+      .string("endpoint", s.endpoint());
   if (with_scenario) o.raw("scenario", scenario_json(s.scenario()));
   return o.str();
 }
@@ -126,6 +127,7 @@ std::string session_text(const lbsolid::v1::Session& s) {
           ")\n";
   if (s.created_unix_ms() > 0) text += "created     " + local_time(s.created_unix_ms()) + "\n";
   if (!s.request_id().empty()) text += "request id  " + s.request_id() + "\n";
+  if (!s.endpoint().empty()) text += "endpoint    " + s.endpoint() + "\n";
   return text;
 }
 
@@ -141,6 +143,8 @@ std::string server_info_json(const lbsolid::v1::ServerInfo& info) {
       .integer("max_sync_steps", info.max_sync_steps())
       .integer("max_message_bytes", info.max_message_bytes())
       .integer("sessions", info.sessions())
+      .integer("running_sessions", info.running_sessions())
+      .string("endpoint", info.endpoint())
       .str();
 }
 

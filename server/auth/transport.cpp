@@ -67,6 +67,26 @@ bool is_local_address(const std::string& listen) {
   return host == "localhost" || host == "::1" || host.starts_with("127.");
 }
 
+absl::Status check_advertise_address(const std::string& address) {
+  const auto refuse = [](const std::string& why) {
+    return absl::InvalidArgumentError("--advertise_address: " + why);
+  };
+  if (address.empty()) return absl::OkStatus();
+  if (address.size() > 255) return refuse("longer than 255 characters");
+  for (const char c : address)
+    if (c <= ' ' || c > '~') return refuse("only printable characters without spaces");
+  if (address.starts_with("unix:")) {
+    return address.size() > 5 ? absl::OkStatus() : refuse("unix: needs a path");
+  }
+  const std::size_t colon = address.rfind(':');
+  if (colon == std::string::npos || colon == 0) return refuse("'" + address + "' is not HOST:PORT or unix:PATH");
+  const std::string port = address.substr(colon + 1);
+  if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos ||
+      std::stol(port) < 1 || std::stol(port) > 65535)
+    return refuse("the port of '" + address + "' must be a number in [1, 65535]");
+  return absl::OkStatus();
+}
+
 absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> server_credentials(
     const TransportOptions& options, std::shared_ptr<const Authenticator> authenticator) {
   if (options.tls_cert.empty() != options.tls_key.empty())

@@ -26,6 +26,11 @@ struct TransportOptions {
 // True for unix:/unix-abstract: addresses, localhost and the loopback ranges 127.0.0.0/8 and ::1.
 bool is_local_address(const std::string& listen);
 
+// --advertise_address: where clients reach this daemon, handed to them in every Session. Empty
+// (none), unix:PATH, or HOST:PORT with a port in [1, 65535]; printable ASCII without spaces, at
+// most 255 characters. Otherwise INVALID_ARGUMENT naming the flag and the reason.
+absl::Status check_advertise_address(const std::string& address);
+
 // The credentials to serve `options.listen` with, or an error naming the flag and the reason
 // (missing or unreadable files; off loopback without --allow_insecure: plaintext, or no
 // authentication). Secure

@@ -98,6 +98,9 @@ ABSL_FLAG(bool, reflection, true, "serve gRPC reflection (grpcurl, grpc_cli)");
 ABSL_FLAG(std::string, health_listen, "",
           "a second address serving only the gRPC health service, in plaintext, for probes that speak no TLS "
           "(Kubernetes' gRPC probes); it answers SERVING or NOT_SERVING and nothing else; empty: none");
+ABSL_FLAG(std::string, advertise_address, "",
+          "HOST:PORT where clients reach this daemon (told in every Session's endpoint, and in ServerInfo), so a "
+          "client that knows several daemons follows each session to its own; empty: none");
 ABSL_FLAG(std::string, port_file, "", "if set, the port actually bound is written there (for tests and scripts)");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn or error");
 
@@ -196,6 +199,9 @@ int main(int argc, char** argv) {
     return fail_start("--owner_call_rate: must be a finite number of calls per second, 0 or more");
   if (!(call_limits.burst >= 0) || !std::isfinite(call_limits.burst))
     return fail_start("--owner_call_burst: must be a finite number of calls, 0 or more");
+  const std::string advertise_address = absl::GetFlag(FLAGS_advertise_address);
+  if (const absl::Status ok = lbsolid::server::auth::check_advertise_address(advertise_address); !ok.ok())
+    return fail_start(std::string(ok.message()));
 
   // Signals are taken by one thread with sigwait: block them before any other thread starts (the TLS
   // file watcher's included: a SIGHUP delivered to it would end the daemon).
@@ -252,7 +258,7 @@ int main(int argc, char** argv) {
   if (const int error = lbsolid::server::lower_this_thread_priority(absl::GetFlag(FLAGS_call_nice)); error != 0)
     spdlog::warn("--call_nice: cannot lower the priority of the call threads: {}", std::strerror(error));
 
-  lbsolid::server::SimulationService service(*manager, authenticator, call_limits);
+  lbsolid::server::SimulationService service(*manager, authenticator, call_limits, advertise_address);
   grpc::EnableDefaultHealthCheckService(true);
   if (absl::GetFlag(FLAGS_reflection)) grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   // The probes' server: health alone.

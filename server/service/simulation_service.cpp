@@ -112,7 +112,7 @@ grpc::Status SimulationService::CreateSession(grpc::ServerContext* context, cons
       spdlog::warn("CreateSession refused: {}", log_text(std::string(session.status().message()), 1000));
       return to_grpc(session.status());
     }
-    *response = (*session)->describe();
+    *response = describe(**session);
     return grpc::Status::OK;
   });
 }
@@ -150,7 +150,7 @@ grpc::Status SimulationService::GetSession(grpc::ServerContext* context, const v
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   auto session = manager_.find(request->session_id(), *caller);
   if (!session.ok()) return to_grpc(session.status());
-  *response = (*session)->describe();
+  *response = describe(**session);
   return grpc::Status::OK;
 }
 
@@ -159,7 +159,7 @@ grpc::Status SimulationService::ListSessions(grpc::ServerContext* context, const
   const auto caller = admit(*context);
   if (!caller.ok()) return to_grpc(caller.status());
   std::vector<v1::Session> sessions;
-  for (const auto& session : manager_.list(*caller)) sessions.push_back(session->describe(/*with_scenario=*/false));
+  for (const auto& session : manager_.list(*caller)) sessions.push_back(describe(*session, /*with_scenario=*/false));
   std::stable_sort(sessions.begin(), sessions.end(),
                    [](const auto& a, const auto& b) { return a.created_unix_ms() < b.created_unix_ms(); });
   for (auto& session : sessions) *response->add_sessions() = std::move(session);
@@ -181,7 +181,7 @@ grpc::Status SimulationService::Run(grpc::ServerContext* context, const v1::RunR
     if (auto status = manager_.run(request->session_id(), request->steps(), caller); !status.ok()) return to_grpc(status);
     auto session = manager_.find(request->session_id(), caller);
     if (!session.ok()) return to_grpc(session.status());
-    *response = (*session)->describe();
+    *response = describe(**session);
     return grpc::Status::OK;
   });
 }
@@ -206,7 +206,7 @@ grpc::Status SimulationService::Step(grpc::ServerContext* context, const v1::Ste
     response->set_steps_taken(result->steps_taken);
     response->set_deadline_reached(result->deadline_reached);
     response->set_interrupted(result->interrupted);
-    *response->mutable_session() = (*session)->describe();
+    *response->mutable_session() = describe(**session);
     return grpc::Status::OK;
   });
 }
@@ -240,7 +240,7 @@ grpc::Status SimulationService::change_state(const std::string& id, const auth::
   if (!session.ok()) return to_grpc(session.status());
   if (change)
     if (auto status = ((**session).*change)(); !status.ok()) return to_grpc(status);
-  *response = (*session)->describe();
+  *response = describe(**session);
   return grpc::Status::OK;
 }
 
@@ -352,7 +352,7 @@ grpc::Status SimulationService::ListOutputs(grpc::ServerContext* context, const 
   if (auto s = require_id(request->session_id()); !s.ok()) return s;
   auto session = manager_.find(request->session_id(), *caller);
   if (!session.ok()) return to_grpc(session.status());
-  *response->mutable_session() = (*session)->describe(/*with_scenario=*/false);
+  *response->mutable_session() = describe(**session, /*with_scenario=*/false);
   auto files = manager_.outputs(request->session_id(), *caller);
   if (!files.ok()) return to_grpc(files.status());
   for (const auto& file : *files) {
@@ -442,7 +442,7 @@ grpc::Status SimulationService::Restore(grpc::ServerContext* context, const v1::
     if (request->checkpoint_id().empty()) return invalid("checkpoint_id: required");
     auto session = manager_.restore(request->checkpoint_id(), request->request_id(), caller);
     if (!session.ok()) return to_grpc(session.status());
-    *response = (*session)->describe();
+    *response = describe(**session);
     return grpc::Status::OK;
   });
 }
@@ -522,7 +522,7 @@ grpc::Status SimulationService::UploadCheckpoint(grpc::ServerContext* context,
                           absl::StrCat("data: the bytes received have SHA-256 ", got, ", not the ", sha256, " named"));
     auto session = manager_.restore_upload(file.path(), request_id, caller);
     if (!session.ok()) return to_grpc(session.status());
-    *response = (*session)->describe();
+    *response = describe(**session);
     return grpc::Status::OK;
   });
 }
@@ -546,7 +546,15 @@ grpc::Status SimulationService::GetServerInfo(grpc::ServerContext* context, cons
   response->set_max_sync_steps(limits.max_sync_steps);
   response->set_max_message_bytes(4L << 20);
   response->set_sessions(static_cast<long>(manager_.list(*caller).size()));  // the caller's
+  response->set_running_sessions(manager_.running_count());
+  response->set_endpoint(endpoint_);
   return grpc::Status::OK;
+}
+
+v1::Session SimulationService::describe(const Session& session, bool with_scenario) const {
+  v1::Session described = session.describe(with_scenario);
+  described.set_endpoint(endpoint_);
+  return described;
 }
 
 }  // namespace lbsolid::server

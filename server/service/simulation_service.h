@@ -3,6 +3,7 @@
 // INVALID_ARGUMENT), hands the work to the SessionManager and its sessions, and pumps stream
 // frames to clients until the session ends, the client cancels, or the daemon stops.
 #include <memory>
+#include <string>
 #include <string_view>
 
 #include "lbsolid/v1/simulation.grpc.pb.h"
@@ -18,9 +19,14 @@ inline constexpr std::string_view kRetryAfterKey = "lbsolid-retry-after-ms";
 
 class SimulationService final : public v1::Simulation::Service {
  public:
+  // endpoint: where clients reach this daemon (--advertise_address), told in every Session and
+  // in ServerInfo; empty when the daemon does not advertise one.
   SimulationService(SessionManager& manager, std::shared_ptr<const auth::Authenticator> authenticator,
-                    auth::CallRateLimits call_limits = {})
-      : manager_(manager), authenticator_(std::move(authenticator)), call_limiter_(call_limits) {}
+                    auth::CallRateLimits call_limits = {}, std::string endpoint = "")
+      : manager_(manager),
+        authenticator_(std::move(authenticator)),
+        call_limiter_(call_limits),
+        endpoint_(std::move(endpoint)) {}
 
   grpc::Status CreateSession(grpc::ServerContext*, const v1::CreateSessionRequest*, v1::Session*) override;
   grpc::Status ValidateScenario(grpc::ServerContext*, const v1::ValidateScenarioRequest*,
@@ -62,9 +68,13 @@ class SimulationService final : public v1::Simulation::Service {
   grpc::Status audited(grpc::ServerContext& context, const char* method, const SessionId& session_id,
                        const Body& body);
 
+  // The session's description as clients get it: with this daemon's endpoint.
+  v1::Session describe(const Session& session, bool with_scenario = true) const;
+
   SessionManager& manager_;
   const std::shared_ptr<const auth::Authenticator> authenticator_;
   auth::CallRateLimiter call_limiter_;
+  const std::string endpoint_;
 };
 
 }  // namespace lbsolid::server

@@ -237,6 +237,12 @@ int SessionManager::count() const {
   return static_cast<int>(sessions_.size());
 }
 
+int SessionManager::running_count() const {
+  int running = 0;
+  for (const auto& session : all_sessions()) running += session->state() == v1::SESSION_STATE_RUNNING;
+  return running;
+}
+
 absl::Status SessionManager::remove(const std::string& id, const auth::Identity& caller) {
   std::shared_ptr<Session> session;
   {

@@ -79,6 +79,7 @@ class SessionManager {
   // The caller's sessions; an admin's: every owner's.
   std::vector<std::shared_ptr<Session>> list(const auth::Identity& caller) const;
   int count() const;
+  int running_count() const;  // sessions RUNNING now, every owner's
   absl::Status remove(const std::string& id, const auth::Identity& caller);
 
   // Run and Resume are refused (RESOURCE_EXHAUSTED) past the owner's quota of running sessions.
