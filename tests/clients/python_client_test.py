@@ -22,8 +22,8 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPOSITORY / "client-examples" / "python"))
 
-from lbsolid_client import (Client, InvalidArgument, LocalDaemon, NotFound, SessionFailed, load_scenario,  # noqa: E402
-                            retryable)
+from lbsolid_client import (Client, Cluster, InvalidArgument, LocalDaemon, NotFound, SessionFailed,  # noqa: E402
+                            load_scenario, retryable)
 
 SCENARIO = Path(__file__).resolve().parent / "python_small_scenario.textproto"
 REFERENCE = Path(os.environ.get("LBSOLID_REFERENCE", REPOSITORY / "build" / "tests" / "lbsolid-reference"))
@@ -259,6 +259,51 @@ class PythonClientOverTls(unittest.TestCase):
                     client.info()
                 self.assertEqual(caught.exception.code(), grpc.StatusCode.UNAUTHENTICATED, token)
                 self.assertFalse(retryable(caught.exception))
+
+
+class ClusterPlacesAndFollowsSessions(unittest.TestCase):
+    """Three daemons behind a Cluster: new sessions on the least loaded, found again where they are."""
+
+    def setUp(self):  # fresh daemons for each test: placement depends on what they hold
+        self.daemons = [LocalDaemon(workers=1).start() for _ in range(3)]
+        self.cluster = Cluster([d.address for d in self.daemons], timeout=30)
+
+    def tearDown(self):
+        self.cluster.close()
+        for daemon in self.daemons:
+            daemon.stop()
+
+    def test_idle_daemons_are_dealt_in_turn_and_each_session_is_found_where_it_is(self):
+        # Each run ends before the next create: all idle, so the fewest sessions held decide, in order.
+        placed = []
+        for _ in range(6):
+            session = self.cluster.create(load_scenario(SCENARIO))
+            session.run(50)
+            session.wait(progress=False)
+            placed.append(self.cluster.clients.index(session.client))
+        self.assertEqual(placed, [0, 1, 2, 0, 1, 2])
+        found = self.cluster.session(session.id)
+        self.assertIs(found.client, session.client)
+        self.assertEqual(found.get().step, 50)
+        with self.assertRaises(NotFound) as caught:
+            self.cluster.session("s-" + "0" * 32)
+        self.assertIn("none of the 3 daemons", caught.exception.details())
+
+    def test_a_retried_create_answers_with_its_first_session(self):
+        first = self.cluster.create(load_scenario(SCENARIO), request_id="cluster-retry")
+        again = self.cluster.create(load_scenario(SCENARIO), request_id="cluster-retry")
+        self.assertEqual(again.id, first.id)
+        self.assertIs(again.client, first.client)
+
+    def test_a_daemon_with_a_running_session_is_passed_over(self):
+        busy = self.cluster.clients[0]  # all idle and empty: the one the tie-break would choose
+        long_run = busy.create(load_scenario(SCENARIO))
+        long_run.run(10**9)
+        try:
+            chosen = self.cluster.create(load_scenario(SCENARIO))
+            self.assertIsNot(chosen.client, busy)
+        finally:
+            long_run.cancel()
 
 
 if __name__ == "__main__":
