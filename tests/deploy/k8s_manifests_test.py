@@ -86,6 +86,13 @@ def main():
     check(service["spec"]["ports"][0]["targetPort"] in ("grpc", listen_port), "the Service does not target the API port")
     check(service["spec"]["selector"] == stateful["spec"]["selector"]["matchLabels"], "the Service selects other pods")
     check(stateful["spec"]["serviceName"] == service["metadata"]["name"], "serviceName is not the Service")
+    # Each replica advertises its own stable name: <pod>.<governing headless Service>:<--listen's port>.
+    check(service["spec"].get("clusterIP") == "None", "the Service is not headless: replicas get no names of their own")
+    env = {e["name"]: e for e in container.get("env", [])}
+    check(env.get("POD_NAME", {}).get("valueFrom", {}).get("fieldRef", {}).get("fieldPath") == "metadata.name",
+          "POD_NAME is not the pod's name")
+    check(flags.get("--advertise_address") == f"$(POD_NAME).{service['metadata']['name']}:{listen_port}",
+          f"--advertise_address {flags.get('--advertise_address')} is not the replica's name and --listen's port")
 
     claims = {c["metadata"]["name"] for c in stateful["spec"]["volumeClaimTemplates"]}
     mounts = {m["name"]: m["mountPath"] for m in container["volumeMounts"]}
