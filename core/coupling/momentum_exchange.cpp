@@ -28,11 +28,14 @@ void MomentumExchange::Slots::resize(std::size_t n) {
   fluid.resize(n);
   velocity.resize(n);
   gained.resize(n);
+  anchors.resize(n);
+  anchor_share.resize(n);
 }
 
 std::size_t MomentumExchange::Slots::bytes_allocated() const {
   return node.capacity() * sizeof(Node) + mass.capacity() * sizeof(double) +
-         (momentum.capacity() + velocity.capacity() + gained.capacity()) * sizeof(fluid::Vec3) +
+         (momentum.capacity() + velocity.capacity() + gained.capacity() + anchor_share.capacity()) * sizeof(fluid::Vec3) +
+         anchors.capacity() * sizeof(std::uint32_t) +
          fluid.capacity() * sizeof(fluid::DensityMomentum);
 }
 
@@ -96,7 +99,7 @@ void MomentumExchange::mark_cells(Part& part) {
 }
 
 void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& mass,
-                                  const solid::ParticleVectors& momentum) {
+                                  const solid::ParticleVectors& momentum, const std::vector<char>* anchored) {
   // The marked cells in order, the node of each followed row by row from the part's first cell.
   const long nx = grid_[0], ny = grid_[1];
   long row = part.first_cell / nx, row_end = (row + 1) * nx;
@@ -116,6 +119,7 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
       slots_.node[s] = {static_cast<int>(c - (row_end - nx)), y, z};
       slots_.mass[s] = 0;
       slots_.momentum[s] = {0, 0, 0};
+      slots_.anchors[s] = 0;
       ++s;
     }
     touched_[w] = 0;
@@ -132,18 +136,29 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   const CellIndex first = part.first_cell, end = part.end_cell;
   const long n = static_cast<long>(cell_.size());
   // D components per particle (a 2D solid stores no z; its nodes' z sums stay zero).
-  auto sum = [&]<int D>(std::integral_constant<int, D>) {
+  // Anchors count at their node and add neither mass nor momentum (theirs is infinite, at rest).
+  const char* __restrict anchor = anchored ? anchored->data() : nullptr;
+  std::uint32_t* __restrict slot_anchors = slots_.anchors.data();
+  auto sum = [&]<int D, bool kAnchors>(std::integral_constant<int, D>, std::bool_constant<kAnchors>) {
     for (long p = 0; p < n; ++p) {
       const CellIndex c = cells[p];
       if (c < first || c >= end) continue;
       const long slot = slot_of_cell[c];
       slot_of_particle[p] = static_cast<std::uint32_t>(slot);
+      if (kAnchors && anchor[p]) {
+        ++slot_anchors[slot];
+        continue;
+      }
       slot_mass[slot] += masses[p];
       for (int a = 0; a < D; ++a) slot_momentum[slot][a] += momenta[p * D + a];
     }
   };
-  if (momentum.dimension == 2) sum(std::integral_constant<int, 2>{});
-  else sum(std::integral_constant<int, 3>{});
+  auto with_anchors = [&]<int D>(std::integral_constant<int, D> d) {
+    if (anchor) sum(d, std::true_type{});
+    else sum(d, std::false_type{});
+  };
+  if (momentum.dimension == 2) with_anchors(std::integral_constant<int, 2>{});
+  else with_anchors(std::integral_constant<int, 3>{});
 }
 
 void MomentumExchange::node_velocities(const Part& part, const std::vector<double>& mass,
@@ -151,7 +166,14 @@ void MomentumExchange::node_velocities(const Part& part, const std::vector<doubl
   for (long s = part.base; s < part.base + part.count; ++s) {
     const fluid::DensityMomentum& f = slots_.fluid[s];
     fluid::Vec3& u = slots_.velocity[s];
-    if (rule_ == ExchangeRule::kCommonVelocity) {
+    if (slots_.anchors[s] > 0) {  // held still: everything here comes to rest on the anchors
+      const double share = 1.0 / slots_.anchors[s];
+      for (int a = 0; a < 3; ++a) {
+        u[a] = 0;
+        slots_.gained[s][a] = -f.momentum[a];
+        slots_.anchor_share[s][a] = -(f.momentum[a] + slots_.momentum[s][a]) * share;
+      }
+    } else if (rule_ == ExchangeRule::kCommonVelocity) {
       const double inverse_mass = 1.0 / (f.rho + slots_.mass[s]);
       for (int a = 0; a < 3; ++a) {
         u[a] = (f.momentum[a] + slots_.momentum[s][a]) * inverse_mass;

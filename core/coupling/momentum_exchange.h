@@ -57,15 +57,21 @@ class MomentumExchange {
   // The exchange of the located particles, `mass[p]` and `momentum[p]` describing particle p;
   // `fluid` answers gather_momenta(nodes, count, out) with the pre-collision density and momentum
   // of each node (FluidLattice's batched call; with a pool, from several threads at once).
+  // `anchored` (per particle, or null for none): anchors hold their nodes still. A node with an
+  // anchor has u* = 0 (infinite mass at rest): its fluid gains -(rho u_f), its other particles
+  // give all their momentum, and the anchors there absorb the sum, shared equally (anchor_dp).
   template <class Fluid>
   void compute(const std::vector<double>& mass, const solid::ParticleVectors& momentum, const Fluid& fluid,
-               parallel::ThreadPool* pool = nullptr, int parts = 1);
+               parallel::ThreadPool* pool = nullptr, int parts = 1, const std::vector<char>* anchored = nullptr);
   // The momentum particle p gives its node, given the mass and momentum compute() had for it.
   fluid::Vec3 particle_dp(long p, const fluid::Vec3& momentum, double mass) const {
     if (rule_ != ExchangeRule::kCommonVelocity) return pairwise_dp_[p];
     const fluid::Vec3& u = slots_.velocity[slot_[p]];
     return {momentum[0] - mass * u[0], momentum[1] - mass * u[1], momentum[2] - mass * u[2]};
   }
+  // What anchored particle p gives its node (minus what it absorbs there): the node's fluid
+  // momentum and the other particles' momenta, negated, over the node's anchors.
+  fluid::Vec3 anchor_dp(long p) const { return slots_.anchor_share[slot_[p]]; }
   // Gives the fluid the momentum of the last compute() (fluid.add_momenta per part), in the same
   // parts: each node's slots are written by no other node. Call after the fluid's step.
   template <class Fluid>
@@ -88,6 +94,8 @@ class MomentumExchange {
     std::vector<fluid::DensityMomentum> fluid;
     std::vector<fluid::Vec3> velocity;
     std::vector<fluid::Vec3> gained;
+    std::vector<std::uint32_t> anchors;      // anchored particles at the node
+    std::vector<fluid::Vec3> anchor_share;   // what each of them gives the node (anchor_dp)
     long size() const { return static_cast<long>(node.size()); }
     void resize(std::size_t n);
     std::size_t bytes_allocated() const;
@@ -103,7 +111,8 @@ class MomentumExchange {
   void mark_cells(Part& part);
   // Lists the part's marked nodes in cell order (clearing their marks) and sums the mass and
   // momentum of their particles.
-  void list_nodes(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum);
+  void list_nodes(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum,
+                  const std::vector<char>* anchored);
   // Each listed node's comparison velocity and gain, once its fluid is read.
   void node_velocities(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum);
   // work(k) for every part k, on the pool when there are several.
@@ -148,13 +157,14 @@ void MomentumExchange::locate(long n, const CellOf& cell_of, parallel::ThreadPoo
 
 template <class Fluid>
 void MomentumExchange::compute(const std::vector<double>& mass, const solid::ParticleVectors& momentum,
-                               const Fluid& fluid, parallel::ThreadPool* pool, int parts) {
+                               const Fluid& fluid, parallel::ThreadPool* pool, int parts,
+                               const std::vector<char>* anchored) {
   cut_parts(pool ? parts : 1, pool);
   slot_.resize(cell_.size());
   if (rule_ == ExchangeRule::kPairwise) pairwise_dp_.resize(cell_.size());
   for_parts(pool, [&](int k) {
     const Part& part = parts_[k];
-    list_nodes(part, mass, momentum);
+    list_nodes(part, mass, momentum, anchored);
     if (part.count == 0) return;
     fluid.gather_momenta(slots_.node.data() + part.base, part.count, slots_.fluid.data() + part.base);
     node_velocities(part, mass, momentum);

@@ -23,6 +23,10 @@ struct BodyState {
   // (scene/stages/torque_record.h). Zero in other scenes, and before the first step a simulation
   // takes (also right after a restore). Simulation::body_state fills it; measure_body cannot.
   Vec3 torque{0, 0, 0};
+  // The momentum the body's anchored particles absorbed in the last step: the force that the flow,
+  // the loads and the rest of the body exert on its anchors (drag along the flow, lift across it;
+  // scene/stages/anchor_record.h). Zero for a body without anchors, and before the first step.
+  Vec3 anchor_force{0, 0, 0};
 };
 
 // Body `body` of `solid` (a valid index). Without orientation, the best fits (a pass over the

@@ -292,6 +292,19 @@ std::vector<std::string> validate_scene(const Scene& scene) {
     errors.push_back("contact.restitution: must lie in [0, 1], got " + std::to_string(scene.contact.restitution));
   if (scene.exchange != coupling::ExchangeRule::kCommonVelocity && scene.exchange != coupling::ExchangeRule::kPairwise)
     errors.push_back("exchange: unknown rule; use common-velocity or pairwise");
+  // Anchors: held by the common velocity (u* = 0 at their nodes); not beside rotating bodies,
+  // whose stage records torques instead (stages/solid_stage.h).
+  bool any_rotating = false;
+  for (const auto& body : scene.bodies) any_rotating = any_rotating || body.rotation;
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    const auto& body = scene.bodies[b];
+    if (!body.anchored && body.anchor_labels.empty()) continue;
+    const std::string field = "bodies[" + std::to_string(b) + "]." + (body.anchored ? "anchored" : "anchor_labels");
+    if (scene.exchange == coupling::ExchangeRule::kPairwise)
+      errors.push_back(field + ": anchors need the common-velocity exchange rule");
+    if (any_rotating && !body.rotation)
+      errors.push_back(field + ": a scene with rotating bodies cannot have anchors yet");
+  }
   // Placement needs only a box with a size; other errors do not hide a misplaced body.
   const bool box_ok = scene.fluid.nx >= 1 && scene.fluid.ny >= 1 && scene.fluid.nz >= 1;
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {

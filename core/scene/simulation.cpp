@@ -14,6 +14,7 @@
 #include "scene/stages/fluid_stage.h"
 #include "scene/stages/rotation_stage.h"
 #include "scene/stages/solid_stage.h"
+#include "scene/stages/anchor_record.h"
 #include "scene/stages/torque_record.h"
 #include "solid/wall_contact.h"
 
@@ -36,13 +37,17 @@ class SimulationImpl final : public Simulation {
       solid_ = std::make_unique<solid::SolidSystem>(L::D);
       for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
         const auto& spec = scene.bodies[b];
-        solid_->add_body(body_name(scene, b), solid::body_labels(spec, L::D), spec.spacing, spec.centre,
-                         spec.velocity, spec.load, spec.angular_velocity, spec.rotation);
+        const std::vector<solid::Label> labels = solid::body_labels(spec, L::D);
+        const int body = solid_->add_body(body_name(scene, b), labels, spec.spacing, spec.centre, spec.velocity,
+                                          spec.load, spec.angular_velocity, spec.rotation);
+        for (std::size_t q = 0; q < labels.size(); ++q)
+          if (solid::is_anchored(spec, labels[q])) solid_->anchor(solid_->body(body).first + static_cast<int>(q));
         loads = loads || nonzero(spec.load);
         rotating = rotating || spec.rotation;
       }
       if (fluid_) coupling_ = std::make_unique<CouplingState>(scene, solid_->particle_count(), rotating);
       if (rotating) torque_ = std::make_unique<TorqueRecord>(solid_->particle_count(), solid_->body_count());
+      if (solid_->any_anchored()) anchors_ = std::make_unique<AnchorRecord>(solid_->particle_count());
       if (scene.contact.enabled) {
         walls_.restitution = scene.contact.restitution;
         for (int side = 0; side < 2 * L::D; ++side) {
@@ -58,7 +63,8 @@ class SimulationImpl final : public Simulation {
     if (fluid_) stages_.push_back(std::make_unique<FluidStage<L, T>>(*fluid_, coupling_.get(), *pool_));
     if (solid_)
       stages_.push_back(
-          make_solid_stage<L::D>(loads, walls_.any(), scene_, *solid_, coupling_.get(), walls_, torque_.get(), *pool_));
+          make_solid_stage<L::D>(loads, walls_.any(), scene_, *solid_, coupling_.get(), walls_, torque_.get(),
+                                anchors_.get(), *pool_));
     if (rotating) stages_.push_back(std::make_unique<RotationStage>(scene_, *solid_, *pool_));  // after the solid's update
   }
 
@@ -85,6 +91,9 @@ class SimulationImpl final : public Simulation {
   Vec3 last_torque(int body, const BodyState& now) const override {
     return torque_ ? torque_->torque(body, now) : Vec3{0, 0, 0};
   }
+  Vec3 last_anchor_force(int body) const override {
+    return anchors_ ? anchors_->body_force(*solid_, body) : Vec3{0, 0, 0};
+  }
 
   std::vector<std::string> stages() const override {
     std::vector<std::string> names;
@@ -97,7 +106,7 @@ class SimulationImpl final : public Simulation {
   std::size_t solid_bytes() const override {
     if (!solid_) return 0;
     return solid_->bytes_allocated() + (coupling_ ? coupling_->bytes_allocated() : 0) +
-           (torque_ ? torque_->bytes_allocated() : 0);
+           (torque_ ? torque_->bytes_allocated() : 0) + (anchors_ ? anchors_->bytes_allocated() : 0);
   }
 
   std::vector<double> velocity_profile() const override {
@@ -207,6 +216,7 @@ class SimulationImpl final : public Simulation {
   std::unique_ptr<solid::SolidSystem> solid_;
   std::unique_ptr<CouplingState> coupling_;  // with fluid and bodies
   std::unique_ptr<TorqueRecord> torque_;     // with a rotating body
+  std::unique_ptr<AnchorRecord> anchors_;    // with an anchored particle
   solid::ContactWalls walls_;
   std::vector<std::unique_ptr<StepStage>> stages_;
   long steps_ = 0;
@@ -242,6 +252,7 @@ BodyState Simulation::body_state(int body) const {
     throw std::out_of_range("body: no body " + std::to_string(body) + " in this scene");
   BodyState state = measure_body(*s, body);
   state.torque = last_torque(body, state);
+  state.anchor_force = last_anchor_force(body);
   return state;
 }
 

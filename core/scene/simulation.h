@@ -105,6 +105,8 @@ class Simulation {
  protected:
   // BodyState::torque of `body` whose state is now `now` (stages/torque_record.h).
   virtual Vec3 last_torque(int body, const BodyState& now) const = 0;
+  // BodyState::anchor_force of `body` (stages/anchor_record.h).
+  virtual Vec3 last_anchor_force(int body) const = 0;
 };
 
 // Throws std::invalid_argument listing every problem (validate_scene) if the scene cannot run.

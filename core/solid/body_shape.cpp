@@ -141,7 +141,34 @@ std::vector<std::string> validate_body_spec(const BodySpec& spec, int dimension,
   if (!finite(spec.angular_velocity)) error("angular_velocity", "must be finite");
   if (dimension == 2 && (spec.angular_velocity[0] != 0 || spec.angular_velocity[1] != 0))
     error("angular_velocity", "a 2D body spins about z only (x and y components zero)");
+  if (spec.anchored && !spec.anchor_labels.empty())
+    error("anchor_labels", "give either anchored (the whole body) or anchor_labels, not both");
+  if ((spec.anchored || !spec.anchor_labels.empty()) && spec.rotation)
+    error("rotation", "an anchored body cannot rotate (its springs' frame would turn about a fixed point)");
+  if (!spec.anchor_labels.empty() && errors.empty()) {
+    const std::vector<Label> labels = body_labels(spec, dimension);
+    const std::set<Label> own(labels.begin(), labels.end());
+    std::set<Label> seen;
+    for (const Label& l : spec.anchor_labels) {
+      const std::string text = "(" + std::to_string(l[0]) + ", " + std::to_string(l[1]) + ", " + std::to_string(l[2]) + ")";
+      if (!own.count(l)) {
+        error("anchor_labels", "label " + text + " is not a particle of this body");
+        break;
+      }
+      if (!seen.insert(l).second) {
+        error("anchor_labels", "label " + text + " appears twice");
+        break;
+      }
+    }
+  }
   return errors;
+}
+
+bool is_anchored(const BodySpec& spec, const Label& label) {
+  if (spec.anchored) return true;
+  for (const Label& l : spec.anchor_labels)
+    if (l == label) return true;
+  return false;
 }
 
 }  // namespace lbsolid::solid

@@ -31,7 +31,15 @@ struct BodySpec {
   Vec3 load{0, 0, 0};      // external force on every particle, lattice units
   Vec3 angular_velocity{0, 0, 0};  // initial spin about the centre of mass, radians per step (2D: z)
   bool rotation = false;  // the springs' rest frame turns with the body (SolidSystem)
+  // Anchored particles are held where they are placed (infinite mass) and still exchange momentum
+  // with the fluid; what they absorb is the force on the anchors (MODEL.md section 5). Either the
+  // whole body, or the particles of these labels (labels of the body's own shape).
+  bool anchored = false;
+  std::vector<Label> anchor_labels;
 };
+
+// Whether particle `label` of `spec` is anchored.
+bool is_anchored(const BodySpec& spec, const Label& label);
 
 // The labels of a shape, in a fixed order (x fastest). Empty if the shape's size is not positive.
 std::vector<Label> body_labels(const BodySpec& spec, int dimension);

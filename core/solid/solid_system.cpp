@@ -51,6 +51,7 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
       neighbours_.push_back(it == index.end() ? -1 : it->second);
     }
   }
+  if (!anchored_.empty()) anchored_.resize(mass_.size(), 0);  // a later body starts unanchored
   // A rigid motion: every existing incoming link carries velocity/2. Link k arrives from l - c_k,
   // which exists exactly when link opp(k) of l does.
   const Vec3 half{0.5 * velocity[0], 0.5 * velocity[1], 0.5 * velocity[2]};
@@ -104,7 +105,7 @@ double SolidSystem::total_energy() const {
 
 std::size_t SolidSystem::bytes_allocated() const {
   return body_index_.capacity() * sizeof(int) + labels_.capacity() * sizeof(Label) +
-         mass_.capacity() * sizeof(double) + neighbours_.capacity() * sizeof(int) +
+         mass_.capacity() * sizeof(double) + neighbours_.capacity() * sizeof(int) + anchored_.capacity() +
          (positions_.capacity() + incoming_.capacity() + outgoing_.capacity() + momentum_.capacity()) * sizeof(double);
 }
 
@@ -152,6 +153,11 @@ void SolidSystem::restore(const SolidState& state) {
       bodies_[b].frame = best_fit_rotation(b);
       if (dimension() == 2) bodies_[b].angle = best_fit_angle(b);
     }
+}
+
+void SolidSystem::anchor(int p) {
+  if (anchored_.empty()) anchored_.assign(mass_.size(), 0);
+  anchored_[p] = 1;
 }
 
 }  // namespace lbsolid::solid

@@ -126,6 +126,13 @@ class SolidSystem {
   Quaternion best_fit_quaternion(int b) const;
 
 
+  // Holds particle p where it is (an anchor, MODEL.md section 5): its step's total force is then
+  // -2 Psi_p, which keeps r_p (eq. 7) and sends each arriving vector back negated (eq. 6); the
+  // caller (the solid stage) supplies that force and books what the anchor absorbed.
+  void anchor(int p);
+  bool anchored(int p) const { return !anchored_.empty() && anchored_[p]; }
+  bool any_anchored() const { return !anchored_.empty(); }
+  const std::vector<char>& anchored_flags() const { return anchored_; }  // per particle; empty: none
   Vec3 total_momentum() const;
   double total_energy() const;
 
@@ -144,6 +151,7 @@ class SolidSystem {
   std::vector<Label> labels_;
   std::vector<double> positions_;  // r_p at [p * dim + a]
   std::vector<double> mass_;
+  std::vector<char> anchored_;     // per particle once any is anchored, else empty
   std::vector<int> neighbours_;  // [p * links + k]
   std::vector<double> incoming_;   // f_k(p) at time t, at [(p * links + k) * dim + a]
   std::vector<double> outgoing_;   // written by step(), then swapped in

@@ -35,7 +35,7 @@ class ExchangeStage final : public StepStage {
         &pool_, parts);
     clock.lap(Stage::kLocate);
     coupling_.exchange.compute(solid_.masses(), coupling_.rotating ? momenta_at_nodes() : solid_.momenta(), fluid_,
-                               &pool_, parts);
+                               &pool_, parts, solid_.any_anchored() ? &solid_.anchored_flags() : nullptr);
     clock.lap(Stage::kExchange);
   }
 

@@ -3,13 +3,16 @@
 // exchange's reaction -dP, then wall contact, which needs every other force. Each force is summed
 // as the solid's step reaches its particle, in one pass; which forces exist is fixed when the
 // stage is built (make_solid_stage), so a scene runs no code for a force it lacks. With a torque
-// record (scenes with a rotating body), each particle's total force is recorded as well.
+// record (scenes with a rotating body), each particle's total force is recorded as well; with an
+// anchor record (scenes with anchors), an anchored particle gets the force that holds it, -2 Psi,
+// and the record what its anchor absorbed (anchor_record.h).
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "parallel/thread_pool.h"
 #include "scene/scene.h"
+#include "scene/stages/anchor_record.h"
 #include "scene/stages/coupling_state.h"
 #include "scene/stages/torque_record.h"
 #include "scene/step_stage.h"
@@ -17,12 +20,13 @@
 
 namespace lbsolid::scene {
 
-template <int D, bool kLoads, bool kExchange, bool kContact, bool kTorque>
+template <int D, bool kLoads, bool kExchange, bool kContact, bool kTorque, bool kAnchors>
 class SolidStage final : public StepStage {
  public:
   SolidStage(const Scene& scene, solid::SolidSystem& solid, const CouplingState* coupling,
-             const solid::ContactWalls& walls, TorqueRecord* torque, parallel::ThreadPool& pool)
-      : scene_(scene), solid_(solid), coupling_(coupling), walls_(walls), torque_(torque), pool_(pool) {}
+             const solid::ContactWalls& walls, TorqueRecord* torque, AnchorRecord* anchors, parallel::ThreadPool& pool)
+      : scene_(scene), solid_(solid), coupling_(coupling), walls_(walls), torque_(torque), anchors_(anchors),
+        pool_(pool) {}
 
   std::vector<std::string> names() const override {
     std::vector<std::string> n;
@@ -36,6 +40,17 @@ class SolidStage final : public StepStage {
     const solid::ParticleVectors momenta = solid_.momenta();
     const auto force = [&](int p) {
       solid::Vec3 f = kLoads ? solid_.body(solid_.body_of(p)).load : solid::Vec3{0, 0, 0};
+      if constexpr (kAnchors) {
+        if (solid_.anchored(p)) {  // held: the anchor takes whatever else acts on it
+          if constexpr (kExchange) {
+            const solid::Vec3 dp = coupling_->exchange.anchor_dp(p);
+            for (int a = 0; a < 3; ++a) f[a] -= dp[a];
+          }
+          const solid::Vec3 psi = momenta.get<D>(p);
+          anchors_->record(p, {2 * psi[0] + f[0], 2 * psi[1] + f[1], 2 * psi[2] + f[2]});
+          return solid::Vec3{-2 * psi[0], -2 * psi[1], -2 * psi[2]};
+        }
+      }
       if constexpr (kExchange) {
         const solid::Vec3 compared = coupling_->rotating
                                          ? solid::ParticleVectors{coupling_->momenta_at_nodes.data(), D}.get<D>(p)
@@ -58,21 +73,25 @@ class SolidStage final : public StepStage {
   const CouplingState* coupling_;
   const solid::ContactWalls& walls_;
   TorqueRecord* torque_;
+  AnchorRecord* anchors_;
   parallel::ThreadPool& pool_;
 };
 
 // The solid stage for the forces present: loads, the exchange (`coupling` not null), contact;
-// recording the torques when `torque` is not null.
+// recording the torques when `torque` is not null, holding the anchors when `anchors` is not null.
 template <int D>
 std::unique_ptr<StepStage> make_solid_stage(bool loads, bool contact, const Scene& scene, solid::SolidSystem& solid,
                                             const CouplingState* coupling, const solid::ContactWalls& walls,
-                                            TorqueRecord* torque, parallel::ThreadPool& pool) {
+                                            TorqueRecord* torque, AnchorRecord* anchors, parallel::ThreadPool& pool) {
   auto make = [&]<bool kLoads, bool kExchange, bool kContact>() -> std::unique_ptr<StepStage> {
-    if (torque)
-      return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, true>>(scene, solid, coupling, walls, torque,
-                                                                                pool);
-    return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, false>>(scene, solid, coupling, walls, nullptr,
-                                                                               pool);
+    if (torque)  // rotating bodies are never anchored (validate_body_spec)
+      return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, true, false>>(scene, solid, coupling, walls,
+                                                                                       torque, nullptr, pool);
+    if (anchors)
+      return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, false, true>>(scene, solid, coupling, walls,
+                                                                                       nullptr, anchors, pool);
+    return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, false, false>>(scene, solid, coupling, walls,
+                                                                                      nullptr, nullptr, pool);
   };
   auto with_contact = [&]<bool kLoads, bool kExchange>() {
     return contact ? make.template operator()<kLoads, kExchange, true>()
