@@ -302,6 +302,16 @@ TranslatedBody translate_body(const v1::Body& in, int index, int dimension, Prob
   // All three components: a 2D body's x or y spin is refused by name (validate_body_spec).
   spec.angular_velocity = {in.angular_velocity().x(), in.angular_velocity().y(), in.angular_velocity().z()};
   spec.rotation = in.rotation();
+  spec.anchored = in.anchored();
+  if (in.anchor_labels_size() > kMaxBodyParticles) {
+    problems.push_back({path + ".anchor_labels",
+                        std::to_string(in.anchor_labels_size()) + " labels, more than the limit of 2^24 per body"});
+  } else {
+    for (int n = 0; n < in.anchor_labels_size(); ++n) {
+      const v1::Label& l = in.anchor_labels(n);
+      spec.anchor_labels.push_back({l.i(), l.j(), l.k()});
+    }
+  }
   switch (in.shape()) {
     case v1::BODY_SHAPE_RECTANGLE:
       spec.shape = solid::BodyShape::kRectangle;

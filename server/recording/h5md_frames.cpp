@@ -29,6 +29,7 @@ void append_particle_frame(storage::H5mdWriter& writer, const lbsolid::v1::Parti
     writer.append_rotation(body.name(), frame.step(), array_of(body.angular_momentum()),
                            array_of(body.angular_velocity()), body.orientation(), array_of(body.orientation_quaternion()),
                            array_of(body.torque()));
+    writer.append_anchor_force(body.name(), frame.step(), array_of(body.anchor_force()));
   }
 }
 

@@ -56,16 +56,17 @@ long long particles_of(const v1::Body& body, int dimension) {
 // Bytes per particle in SolidSystem and, with a fluid, in the exchange (scene/simulation.cpp,
 // coupling/momentum_exchange.h). The solid's vectors hold `dimension` doubles
 // (solid/particle_vectors.h): body index 4, label 12, position, mass 8, momentum, per link a
-// neighbour index 4 and incoming and outgoing vectors; exchange: cell 4, slot 4, a node record of
-// 124 (at most one node per particle), the pairwise rule's dP 24, and with rotating bodies each
-// particle's node 12 and the momenta compared at the nodes; with rotating bodies, the torque
-// record's 48 (scene/stages/torque_record.h). Doubled: arrays grown by push_back or resize may
-// hold up to twice their size.
+// neighbour index 4 and incoming and outgoing vectors, an anchor flag 1 and the anchor record's 24
+// (scene/stages/anchor_record.h; counted whether or not a body is anchored: the estimate errs
+// high); exchange: cell 4, slot 4, a node record of 152 (at most one node per particle), the
+// pairwise rule's dP 24, and with rotating bodies each particle's node 12 and the momenta compared
+// at the nodes; with rotating bodies, the torque record's 48 (scene/stages/torque_record.h).
+// Doubled: arrays grown by push_back or resize may hold up to twice their size.
 long long bytes_per_particle(int dimension, bool with_fluid, bool rotating) {
   const int links = 2 * dimension;
   const int vector = 8 * dimension;
-  const long long solid = 4 + 12 + vector + 8 + vector + links * (4 + 2 * vector);
-  const long long exchange = with_fluid ? 4 + 4 + 124 + 24 + (rotating ? 12 + vector : 0) : 0;
+  const long long solid = 4 + 12 + vector + 8 + vector + links * (4 + 2 * vector) + 1 + 24;
+  const long long exchange = with_fluid ? 4 + 4 + 152 + 24 + (rotating ? 12 + vector : 0) : 0;
   const long long torque = rotating ? 48 : 0;
   return 2 * (solid + exchange + torque);
 }

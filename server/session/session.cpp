@@ -494,6 +494,7 @@ v1::ParticleFrame Session::particle_frame(const std::vector<int>& bodies) const 
     quaternion->set_y(q[2]);
     quaternion->set_z(q[3]);
     *out->mutable_torque() = to_proto(state.torque);
+    *out->mutable_anchor_force() = to_proto(state.anchor_force);
   }
   return frame;
 }

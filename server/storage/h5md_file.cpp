@@ -259,6 +259,12 @@ void H5mdWriter::append_rotation(const std::string& body, long step, const std::
   });
 }
 
+void H5mdWriter::append_anchor_force(const std::string& body, long step, const std::array<double, 3>& force) {
+  impl_->check_open();
+  check_body_name(body);
+  h5::with_context(impl_->context(), [&] { impl_->append("/observables/" + body + "/anchor_force", {3}, step, force.data()); });
+}
+
 void H5mdWriter::append_profile(long step, const std::vector<double>& y, const std::vector<double>& u_x) {
   impl_->check_open();
   if (y.empty() || y.size() != u_x.size())

@@ -47,6 +47,8 @@ class H5mdWriter {
   void append_rotation(const std::string& body, long step, const std::array<double, 3>& angular_momentum,
                        const std::array<double, 3>& angular_velocity, double orientation,
                        const std::array<double, 4>& orientation_quaternion, const std::array<double, 3>& torque);
+  // What the body's anchors absorbed in the step (zero for a body without anchors).
+  void append_anchor_force(const std::string& body, long step, const std::array<double, 3>& force);
   void append_profile(long step, const std::vector<double>& y, const std::vector<double>& u_x);
   void flush();
   void close();  // flushes, closes and renames its .partial-<pid>-<n> file to <path>

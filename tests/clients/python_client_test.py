@@ -187,6 +187,28 @@ class PythonClientMatchesCore(unittest.TestCase):
             self.assertEqual(hashlib.sha256(copy.read_bytes()).hexdigest(), listed["particles.h5"].sha256)
             self.assertEqual([p.name for p in Path(tmp).iterdir()], ["particles.h5"])  # no part file left
 
+    def test_an_anchored_disk_reports_the_force_that_holds_it(self):
+        # A periodic D2Q9 box driven by g per node around an anchored disk: at steady state the
+        # anchors hold the whole drive, g x 1200 nodes (the core test AnchoredDisk measures it
+        # within 2e-5 after 6000 steps; 1e-3 here), and the disk never moves.
+        from google.protobuf import text_format
+        from lbsolid_client import scenario_pb2
+        scenario = text_format.Parse("""
+            name: "anchored disk" lattice: LATTICE_D2Q9
+            domain { nx: 40 ny: 30 x_low { kind: WALL_KIND_PERIODIC } x_high { kind: WALL_KIND_PERIODIC }
+                     y_low { kind: WALL_KIND_PERIODIC } y_high { kind: WALL_KIND_PERIODIC } }
+            fluid { omega: 1 body_force { x: 2e-6 } }
+            bodies { name: "disk" shape: BODY_SHAPE_DISK radius: 4 centre { x: 20.2 y: 15.3 } anchored: true }
+        """, scenario_pb2.Scenario())
+        session = self.client.create(scenario)
+        record = session.run_and_record(6000, particles_every=1000, progress=False)
+        first, last = record.particles[0].bodies["disk"], record.particles[-1].bodies["disk"]
+        self.assertEqual(record.particles[-1].step, 6000)
+        np.testing.assert_array_equal(last.position, first.position)
+        drive = 2e-6 * 40 * 30
+        self.assertAlmostEqual(last.anchor_force[0] / drive, 1.0, delta=1e-3)
+        self.assertLess(abs(last.anchor_force[1]), 1e-6 * drive)
+
     def test_bad_input_names_the_field(self):
         import grpc
         scenario = load_scenario(SCENARIO)

@@ -86,6 +86,7 @@ class Body:
     orientation: float = float("nan")    # 2D: radians, the best-fit turn from the rest shape
     orientation_quaternion: np.ndarray = None  # (4,) w, x, y, z: the same turn, 2D and 3D, w >= 0
     torque: np.ndarray = None  # (3,) in the last step, about the centre of mass (scenes with a rotating body)
+    anchor_force: np.ndarray = None  # (3,) absorbed by the body's anchors in the last step (drag, lift)
 
 
 @dataclass
@@ -138,7 +139,7 @@ def particles_from_proto(frame) -> Particles:
                               _vector(b.angular_momentum), _vector(b.angular_velocity), b.orientation,
                               np.array([b.orientation_quaternion.w, b.orientation_quaternion.x,
                                         b.orientation_quaternion.y, b.orientation_quaternion.z], dtype=np.float64),
-                              _vector(b.torque))
+                              _vector(b.torque), _vector(b.anchor_force))
     return Particles(frame.step, bodies)
 
 

@@ -37,7 +37,7 @@ def recording_from_h5md(path, session, profiles_every=0, particles_every=0, bodi
                 _, means = _series(f[f"observables/{name}/velocity"])
                 rotation = {}  # files from before the rotation observables have none
                 for quantity in ("angular_momentum", "angular_velocity", "orientation", "orientation_quaternion",
-                                 "torque"):
+                                 "torque", "anchor_force"):
                     if f"observables/{name}/{quantity}" in f:
                         rotation[quantity] = _series(f[f"observables/{name}/{quantity}"])[1]
                 for k, step in enumerate(steps):
@@ -50,6 +50,7 @@ def recording_from_h5md(path, session, profiles_every=0, particles_every=0, bodi
                         rotation["angular_velocity"][k] if "angular_velocity" in rotation else None,
                         float(rotation["orientation"][k][0]) if "orientation" in rotation else float("nan"),
                         rotation["orientation_quaternion"][k] if "orientation_quaternion" in rotation else None,
-                        rotation["torque"][k] if "torque" in rotation else None)
+                        rotation["torque"][k] if "torque" in rotation else None,
+                        rotation["anchor_force"][k] if "anchor_force" in rotation else None)
             particles = [Particles(step, frames[step]) for step in sorted(frames)]
     return Recording(session, profiles, particles)
