@@ -14,6 +14,7 @@
 //    Checked two ways: started in that state, nothing moves (to round-off) over 2000 steps; started
 //    at rest and unloaded shape, the undamped chain oscillates about it (its time average over many
 //    periods is that state).
+//    A sheet anchored along one edge: every row holds the chain's equilibrium (below).
 // 2. In a fluid: an anchored disk in a periodic D2Q9 box driven by a body force g. Total momentum
 //    (fluid + solid) changes each step by exactly what enters (g per node) minus what the anchors
 //    absorb: checked to round-off over every step. At steady state the anchors hold the whole
@@ -115,6 +116,47 @@ TEST(AnchoredChain, StartedAtRestItOscillatesAboutThatEquilibrium) {
   EXPECT_DOUBLE_EQ(sim->solid()->position(0)[1], y0);  // the anchor never moved
   for (int l = 1; l < n; ++l)
     EXPECT_NEAR(sum[l] / kSteps, eq.deflection[l], 1e-3 * eq.deflection[l]) << "particle " << l;
+}
+
+// A W x H sheet anchored along its left column (labels (0, j)), the same load F on every particle.
+// Eqs. 6-7 at rest need Psi = -F/2 at every free particle whatever its mass (edge particles have
+// fewer links) and send each link's arriving vector back negated, so every row can hold the
+// chain's equilibrium with N = W while the y links carry nothing: rows deflect alike, columns stay
+// straight (eq. 11 with zero y-link vectors), each row's anchor holds W F, the body W H F.
+TEST(AnchoredSheet, HeldAlongOneEdgeEachRowIsTheChainsEquilibrium) {
+  constexpr int w = 6, h = 4;
+  constexpr double load = 1e-4;
+  Scene s = anchored_chain(2, load);
+  s.bodies[0].shape = solid::BodyShape::kRectangle;
+  s.bodies[0].size = {w, h, 1};
+  s.bodies[0].anchor_labels.clear();
+  for (int j = 0; j < h; ++j) s.bodies[0].anchor_labels.push_back({0, j, 0});
+  auto sim = build_simulation(s);
+  const solid::SolidSystem& solid = *sim->solid();
+  SimulationState start = sim->save_state();
+  std::vector<solid::Vec3> expected(solid.particle_count());
+  for (int p = 0; p < solid.particle_count(); ++p) {
+    const solid::Label l = solid.label(p);
+    ASSERT_EQ(solid.anchored(p), l[0] == 0);
+    double y = 0;
+    for (int m = 1; m <= l[0]; ++m) y += (w - m) * load;
+    const solid::Vec3 r = solid.position(p);
+    expected[p] = {r[0], r[1] + y, 0};
+    start.solid.positions[p] = expected[p];
+    const int i = l[0];
+    start.solid.incoming[p * kLinks2D + 0] = {0, i > 0 ? -(w - i) * load / 2 : 0.0, 0};
+    start.solid.incoming[p * kLinks2D + 1] = {0, 0, 0};
+    start.solid.incoming[p * kLinks2D + 2] = {0, i < w - 1 ? (w - i - 1) * load / 2 : 0.0, 0};
+    start.solid.incoming[p * kLinks2D + 3] = {0, 0, 0};
+    start.solid.momentum[p] = {0, start.solid.incoming[p * kLinks2D][1] + start.solid.incoming[p * kLinks2D + 2][1], 0};
+  }
+  sim->load_state(start);
+  sim->run(2000);
+  for (int p = 0; p < solid.particle_count(); ++p) {
+    EXPECT_NEAR(solid.position(p)[0], expected[p][0], 1e-12) << "particle " << p;
+    EXPECT_NEAR(solid.position(p)[1], expected[p][1], 1e-12) << "particle " << p;
+  }
+  EXPECT_NEAR(sim->body_state(0).anchor_force[1], w * h * load, 1e-15);
 }
 
 TEST(AnchoredDisk, MomentumBalancesToRoundOffAndTheAnchorsHoldTheDrivingForce) {
