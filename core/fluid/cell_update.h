@@ -10,9 +10,30 @@
 
 namespace lbsolid::fluid {
 
+// What the walls do to each population a cell reads or writes: value * scale + shift (row_plan.h:
+// a wall's correction is the shift; scale is 0 only at a pressure outlet, which ignores what comes).
+template <class T, int Q>
+struct WallMap {
+  T scale[Q];
+  T shift[Q];
+  static constexpr WallMap identity() {
+    WallMap m{};
+    for (int i = 0; i < Q; ++i) m.scale[i] = T(1);
+    return m;
+  }
+  bool is_identity() const {
+    for (int i = 0; i < Q; ++i)
+      if (scale[i] != T(1) || shift[i] != T(0)) return false;
+    return true;
+  }
+  // x * 1 + 0 is x (with -ffp-contract=off no multiply-add is fused): walls that only shift, or
+  // none, give what they gave before scales existed, bit for bit.
+  T apply(int i, T value) const { return value * scale[i] + shift[i]; }
+};
+
 template <class L, class T, class Collision, bool kForce, bool kCorrections>
-LBSOLID_FORCE_INLINE void update_cells_together(const T* const (&in)[L::Q], const T (&in_correction)[L::Q],
-                                                T* const (&out)[L::Q], const T (&out_correction)[L::Q],
+LBSOLID_FORCE_INLINE void update_cells_together(const T* const (&in)[L::Q], const WallMap<T, L::Q>& in_map,
+                                                T* const (&out)[L::Q], const WallMap<T, L::Q>& out_map,
                                                 const T (&force)[3], typename Collision::Rates rates, T rho0,
                                                 long begin, long end) {
   constexpr int Q = L::Q;
@@ -21,10 +42,10 @@ LBSOLID_FORCE_INLINE void update_cells_together(const T* const (&in)[L::Q], cons
   for (long c = begin; c < end; ++c) {
     T f[Q];
 #pragma GCC unroll 32
-    for (int i = 0; i < Q; ++i) f[i] = kCorrections ? in[i][c] + in_correction[i] : in[i][c];
+    for (int i = 0; i < Q; ++i) f[i] = kCorrections ? in_map.apply(i, in[i][c]) : in[i][c];
     Collision::template collide<kForce>(f, rates, rho0, force);
 #pragma GCC unroll 32
-    for (int i = 0; i < Q; ++i) out[i][c] = kCorrections ? f[i] + out_correction[i] : f[i];
+    for (int i = 0; i < Q; ++i) out[i][c] = kCorrections ? out_map.apply(i, f[i]) : f[i];
   }
 }
 
@@ -36,15 +57,15 @@ LBSOLID_FORCE_INLINE void update_cells_together(const T* const (&in)[L::Q], cons
 // slots before writing either. The same arithmetic in the source (tests/fluid/cell_update_test.cpp;
 // the compiler may fuse a multiply-add differently in the two loops).
 template <class L, class T, class Collision, bool kForce, bool kCorrections>
-LBSOLID_FORCE_INLINE void update_cells_by_pairs(const T* const (&in)[L::Q], const T (&in_correction)[L::Q],
-                                                T* const (&out)[L::Q], const T (&out_correction)[L::Q],
+LBSOLID_FORCE_INLINE void update_cells_by_pairs(const T* const (&in)[L::Q], const WallMap<T, L::Q>& in_map,
+                                                T* const (&out)[L::Q], const WallMap<T, L::Q>& out_map,
                                                 const T (&force)[3], T omega, T rho0, long begin, long end) {
   constexpr int Q = L::Q;
   constexpr auto opp = lattice::opposite_table<L>();
 #pragma GCC ivdep
   for (long c = begin; c < end; ++c) {
-    auto read = [&](int i) __attribute__((always_inline)) { return kCorrections ? in[i][c] + in_correction[i] : in[i][c]; };
-    auto write = [&](int i, T v) __attribute__((always_inline)) { out[i][c] = kCorrections ? v + out_correction[i] : v; };
+    auto read = [&](int i) __attribute__((always_inline)) { return kCorrections ? in_map.apply(i, in[i][c]) : in[i][c]; };
+    auto write = [&](int i, T v) __attribute__((always_inline)) { out[i][c] = kCorrections ? out_map.apply(i, v) : v; };
     T f[Q];
 #pragma GCC unroll 32
     for (int i = 0; i < Q; ++i) f[i] = read(i);
@@ -69,32 +90,30 @@ LBSOLID_FORCE_INLINE void update_cells_by_pairs(const T* const (&in)[L::Q], cons
 // For cells [begin, end): read the Q populations, collide, write them. D3Q19 BGK goes by pairs
 // (measured faster there); everything else collides all Q together.
 template <class L, class T, class Collision, bool kForce, bool kCorrections>
-LBSOLID_FORCE_INLINE void update_cells(const T* const (&in)[L::Q], const T (&in_correction)[L::Q],
-                                       T* const (&out)[L::Q], const T (&out_correction)[L::Q],
+LBSOLID_FORCE_INLINE void update_cells(const T* const (&in)[L::Q], const WallMap<T, L::Q>& in_map,
+                                       T* const (&out)[L::Q], const WallMap<T, L::Q>& out_map,
                                        const T (&force)[3], typename Collision::Rates rates, T rho0, long begin, long end) {
   if constexpr (L::Q > 9 && std::is_same_v<Collision, BgkCollision<L, T>>)
-    update_cells_by_pairs<L, T, Collision, kForce, kCorrections>(in, in_correction, out, out_correction, force, rates,
-                                                                 rho0, begin, end);
+    update_cells_by_pairs<L, T, Collision, kForce, kCorrections>(in, in_map, out, out_map, force, rates, rho0, begin,
+                                                                 end);
   else
-    update_cells_together<L, T, Collision, kForce, kCorrections>(in, in_correction, out, out_correction, force, rates,
-                                                                 rho0, begin, end);
+    update_cells_together<L, T, Collision, kForce, kCorrections>(in, in_map, out, out_map, force, rates, rho0, begin,
+                                                                 end);
 }
 
-// update_cells for cells whose reads and writes may carry wall corrections: with corrections
-// only if one of them is non-zero. Cells away from walls have none, and adding 2 Q zeros per cell
-// costs the adds and the registers to hold them (D3Q19 in place: about 8% of the pulling step).
-// x + 0 is x (a zero may change sign, which no later arithmetic sees).
+// update_cells for cells whose reads and writes may cross walls: with the maps only if one of
+// them does something. Cells away from walls have none, and applying 2 Q identities per cell
+// costs the arithmetic and the registers to hold them (D3Q19 in place: about 8% of the pulling
+// step). x * 1 + 0 is x (a zero may change sign, which no later arithmetic sees).
 template <class L, class T, class Collision, bool kForce>
-LBSOLID_FORCE_INLINE void update_corrected_cells(const T* const (&in)[L::Q], const T (&in_correction)[L::Q],
-                                                 T* const (&out)[L::Q], const T (&out_correction)[L::Q],
+LBSOLID_FORCE_INLINE void update_corrected_cells(const T* const (&in)[L::Q], const WallMap<T, L::Q>& in_map,
+                                                 T* const (&out)[L::Q], const WallMap<T, L::Q>& out_map,
                                                  const T (&force)[3], typename Collision::Rates rates, T rho0,
                                                  long begin, long end) {
-  bool corrected = false;
-  for (int i = 0; i < L::Q; ++i) corrected = corrected || in_correction[i] != T(0) || out_correction[i] != T(0);
-  if (corrected)
-    update_cells<L, T, Collision, kForce, true>(in, in_correction, out, out_correction, force, rates, rho0, begin, end);
+  if (!in_map.is_identity() || !out_map.is_identity())
+    update_cells<L, T, Collision, kForce, true>(in, in_map, out, out_map, force, rates, rho0, begin, end);
   else
-    update_cells<L, T, Collision, kForce, false>(in, in_correction, out, out_correction, force, rates, rho0, begin, end);
+    update_cells<L, T, Collision, kForce, false>(in, in_map, out, out_map, force, rates, rho0, begin, end);
 }
 
 }  // namespace lbsolid::fluid

@@ -11,8 +11,35 @@ const char* wall_kind_name(WallKind kind) {
     case WallKind::kBounceBack: return "bounce-back";
     case WallKind::kMovingWall: return "moving wall";
     case WallKind::kFreeSlip: return "free-slip";
+    case WallKind::kVelocityInlet: return "velocity inlet";
+    case WallKind::kPressureOutlet: return "pressure outlet";
   }
   return "unknown";
+}
+
+bool is_open(WallKind kind) { return kind == WallKind::kVelocityInlet || kind == WallKind::kPressureOutlet; }
+
+const char* inflow_profile_name(InflowProfile profile) {
+  switch (profile) {
+    case InflowProfile::kUniform: return "uniform";
+    case InflowProfile::kParabolic: return "parabolic";
+  }
+  return "unknown";
+}
+
+double inflow_speed_at(const FluidConfig& config, int side, int y, int z) {
+  const SideBoundary& inlet = config.sides[side];
+  double speed = inlet.inflow_speed;
+  if (inlet.inflow_profile != InflowProfile::kParabolic) return speed;
+  // Each transverse axis with walls shapes the profile; the walls sit half-way beyond the end nodes.
+  auto across = [&](int low_side, int at, int n) {
+    if (config.sides[low_side].kind == WallKind::kPeriodic) return;
+    const double s = (at + 0.5) / n;
+    speed *= 4.0 * s * (1.0 - s);
+  };
+  across(kYLow, y, config.ny);
+  across(kZLow, z, config.nz);  // periodic in 2D
+  return speed;
 }
 
 const char* collision_model_name(CollisionModel model) {
@@ -37,6 +64,28 @@ bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) &
 // particle, coupling::CellIndex), and a fluid this large (120 GB in D2Q7 float) is beyond memory
 // anyway.
 constexpr long long kMaxCells = (1LL << 32) - 1;
+
+// An open side's own fields, and that other sides leave them alone.
+template <class Error>
+void check_open_side(const SideBoundary& b, int side, const std::string& field, const Error& error) {
+  if (is_open(b.kind) && side / 2 != 0) error(field, std::string(wall_kind_name(b.kind)) + "s are supported on x sides only");
+  // Speeds and densities against the stability monitor's limits: scene.cpp, as for moving walls.
+  if (!std::isfinite(b.inflow_speed)) {
+    error(field + ".inflow_speed", "must be finite");
+  } else if (b.kind != WallKind::kVelocityInlet && b.inflow_speed != 0.0) {
+    error(field + ".inflow_speed", std::string("is only used by a velocity inlet, not a ") + wall_kind_name(b.kind) + " side");
+  }
+  if (b.inflow_profile != InflowProfile::kUniform && b.inflow_profile != InflowProfile::kParabolic) {
+    error(field + ".inflow_profile", "unknown profile " + std::to_string(static_cast<int>(b.inflow_profile)));
+  } else if (b.kind != WallKind::kVelocityInlet && b.inflow_profile != InflowProfile::kUniform) {
+    error(field + ".inflow_profile", std::string("is only used by a velocity inlet, not a ") + wall_kind_name(b.kind) + " side");
+  }
+  if (!std::isfinite(b.outflow_density) || b.outflow_density < 0.0) {
+    error(field + ".outflow_density", "must be a positive finite density");
+  } else if (b.kind != WallKind::kPressureOutlet && b.outflow_density != 0.0) {
+    error(field + ".outflow_density", std::string("is only used by a pressure outlet, not a ") + wall_kind_name(b.kind) + " side");
+  }
+}
 
 }  // namespace
 
@@ -88,8 +137,8 @@ std::vector<std::string> validate_fluid_config(const FluidConfig& config, int di
     const SideBoundary& b = config.sides[side];
     const int axis = side / 2;
     const std::string field = std::string("sides.") + side_name(side);
-    if (b.kind != WallKind::kPeriodic && b.kind != WallKind::kBounceBack &&
-        b.kind != WallKind::kMovingWall && b.kind != WallKind::kFreeSlip) {
+    if (b.kind != WallKind::kPeriodic && b.kind != WallKind::kBounceBack && b.kind != WallKind::kMovingWall &&
+        b.kind != WallKind::kFreeSlip && !is_open(b.kind)) {
       error(field, "unknown wall kind " + std::to_string(static_cast<int>(b.kind)));
       continue;
     }
@@ -118,6 +167,7 @@ std::vector<std::string> validate_fluid_config(const FluidConfig& config, int di
       error(field + ".traction", std::string("is only used by a free-slip wall, not a ") +
                                      wall_kind_name(b.kind) + " side");
     }
+    check_open_side(b, side, field, error);
   }
   for (int axis = 0; axis < axes; ++axis) {
     const bool low = config.sides[2 * axis].kind == WallKind::kPeriodic;

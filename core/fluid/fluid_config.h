@@ -14,6 +14,16 @@ enum class WallKind {
   kBounceBack,  // half-way bounce-back: no-slip wall at rest
   kMovingWall,  // Ladd's moving wall: no-slip wall moving at wall_velocity
   kFreeSlip,    // specular reflection; `traction` is a tangential force per unit wall length
+  // Open sides (x sides only, every lattice; pull_source.h gives the rules):
+  kVelocityInlet,   // fluid enters at `inflow_speed` with `inflow_profile` (Ladd's rule, as a moving wall)
+  kPressureOutlet,  // fluid leaves where the density is held at `outflow_density` (equilibrium inflow)
+};
+
+// How the speed of a velocity inlet varies across it.
+enum class InflowProfile {
+  kUniform,    // inflow_speed everywhere
+  kParabolic,  // inflow_speed times 4 s (1 - s) across each transverse axis that has walls,
+               // s the position between its walls (half-way: s = (y + 1/2) / ny); the peak is inflow_speed
 };
 
 const char* wall_kind_name(WallKind kind);
@@ -22,7 +32,16 @@ struct SideBoundary {
   WallKind kind = WallKind::kPeriodic;
   Vec3 wall_velocity{0, 0, 0};  // kMovingWall only: tangential velocity, lattice units per step
   Vec3 traction{0, 0, 0};       // kFreeSlip only: tangential stress on the adjacent fluid layer
+  double inflow_speed = 0;      // kVelocityInlet only: speed into the box (peak of a parabolic profile)
+  InflowProfile inflow_profile = InflowProfile::kUniform;  // kVelocityInlet only
+  double outflow_density = 0;   // kPressureOutlet only: the density held there; 0 means rho0
 };
+
+bool is_open(WallKind kind);
+const char* inflow_profile_name(InflowProfile profile);
+struct FluidConfig;
+// The speed into the box at the node of row (y, z) on velocity inlet `side` (an x side).
+double inflow_speed_at(const FluidConfig& config, int side, int y, int z);
 
 enum class StreamingScheme {
   kInPlace,    // one buffer, AA pattern: half the memory, each cell reads and writes the same slots

@@ -111,17 +111,30 @@ class FluidLattice {
   struct Slot {
     long index;
     T correction;
+    T scale;  // the population is stored * scale + correction there
   };
   Slot slot(int i, int x, int y, int z) const;
   // Where population i of every node of one part of a row (RowPlans::part_of) is, as an offset
   // from the node's cell: at time t, to read (with a correction to add), and as the last step
   // wrote it after collision, to inject into.
+  // A population is read as stored * scale + correction (a pressure outlet's scale is 0).
   struct RowSlots {
     std::array<long, L::Q> offset;
     std::array<T, L::Q> correction;
+    std::array<T, L::Q> scale;
   };
-  RowSlots read_slots(const RowPlan<T, L::Q>& plan, int part) const;
-  std::array<long, L::Q> injection_slots(const RowPlan<T, L::Q>& plan, int part) const;
+  RowSlots read_slots(const PullSources<T, L::Q>& sources) const;
+  // A pressure outlet's rule with the velocity the flow brings to it: for each of its rows, the
+  // velocity of the node one upstream (interior, so the outlet's own rule does not enter it). A
+  // function of the state alone: set after every step, initialisation and restore.
+  void refresh_outlet_corrections();
+  // Where the last step left each post-collision population, and the scale it was stored with
+  // (what is added there must be scaled alike).
+  struct InjectionSlots {
+    std::array<long, L::Q> offset;
+    std::array<T, L::Q> scale;
+  };
+  InjectionSlots injection_slots(const PullSources<T, L::Q>& sources) const;
   // The batched calls ask for a later node's populations while they work on this one: a lone
   // node's Q populations lie in Q arrays, Q cache misses that would otherwise be waited for one
   // node at a time (3D suspension, 1 thread: the exchange 105-117 -> 45-48 ns a particle). Not in
@@ -148,7 +161,7 @@ class FluidLattice {
     }
   }
   std::array<T, L::Q> gather(int x, int y, int z) const;  // shifted populations at time t
-  std::array<T, L::Q> gather_in_row(const RowPlan<T, L::Q>& plan, int x, long cell) const;
+  std::array<T, L::Q> gather_at(const PullSources<T, L::Q>& sources, long cell) const;
   DensityMomentum density_momentum_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
   Moments moments_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
   // visit(x, moments(x, y, z)) for x = first .. first + count - 1, in order.

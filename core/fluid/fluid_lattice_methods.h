@@ -62,14 +62,15 @@ void FluidLattice<L, T>::check_in_place_slots() const {
   constexpr auto opp = lattice::opposite_table<L>();
   const int nx = config_.nx, ny = config_.ny;
   auto source = [&](int k, long c) -> const PullSource<T, Q>& {
-    return plans_.for_row(c / nx).sources[RowPlans<L, T>::part_of(static_cast<int>(c % nx), nx)][k];
+    return plans_.sources(c / nx, RowPlans<L, T>::part_of(static_cast<int>(c % nx), nx))[k];
   };
   for (long c = 0; c < cells_; ++c) {
     for (int k = 0; k < Q; ++k) {
       const auto& forward = source(opp[k], c);
       const long s = c + forward.delta;
       const auto& back = source(opp[forward.dir], s);
-      if (back.dir != k || s + back.delta != c || back.correction != forward.correction) {
+      if (back.dir != k || s + back.delta != c || back.correction != forward.correction ||
+          back.scale != forward.scale) {
         const long row = c / nx;
         throw std::invalid_argument(
             "streaming: in-place streaming cannot express this combination of walls at node (" +
@@ -130,6 +131,7 @@ void FluidLattice<L, T>::restore_raw_state(const FluidRawState& state) {
   current_ = state.current;
   pulled_ = state.pulled;
   stepped_ = state.stepped;
+  refresh_outlet_corrections();
 }
 
 template <class L, class T>
@@ -164,13 +166,15 @@ void FluidLattice<L, T>::initialize(const std::function<double(int, int, int)>& 
               f[i * storage_.stride() + c] = feq[i];
             } else {
               const Slot s = slot(i, x, y, z);
-              f[s.index] = feq[i] - s.correction;
+              // A rule that ignores what is stored (scale 0: the outlet's) is set by refresh below.
+              f[s.index] = s.scale != T(0) ? (feq[i] - s.correction) * s.scale : feq[i];
             }
           }
         }
       }
     }
   }
+  refresh_outlet_corrections();
 }
 
 template <class L, class T>
@@ -240,6 +244,36 @@ void FluidLattice<L, T>::step() {
   }
   ++steps_;
   stepped_ = true;
+  refresh_outlet_corrections();
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::refresh_outlet_corrections() {
+  const int nx = config_.nx;
+  for (int side : {kXLow, kXHigh}) {
+    const SideBoundary& outlet = config_.sides[side];
+    if (outlet.kind != WallKind::kPressureOutlet) continue;
+    const double rho_out = outlet.outflow_density > 0 ? outlet.outflow_density : config_.rho0;
+    const int part = side == kXLow ? 0 : 2;
+    const int upstream = side == kXLow ? std::min(1, nx - 1) : std::max(nx - 2, 0);
+    for (int z = 0; z < config_.nz; ++z)
+      for (int y = 0; y < config_.ny; ++y) {
+        const long row = y + static_cast<long>(config_.ny) * z;
+        const Vec3 u = moments(upstream, y, z).u;
+        const double usq = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+        const auto& sources = plans_.sources(row, part);
+        for (int i = 0; i < Q; ++i) {
+          if (sources[i].scale != T(0)) continue;  // not set by the outlet (a wall's, or from inside)
+          const double cu = L::c[i][0] * u[0] + L::c[i][1] * u[1] + L::c[i][2] * u[2];
+          const double flow = cu / L::cs2 + cu * cu / (2 * L::cs2 * L::cs2) - usq / (2 * L::cs2);
+          const T entering = static_cast<T>(L::w[i] * (rho_out * (1 + flow) - config_.rho0));
+          plans_.set_edge_correction(row, part, i, entering);
+          // In place before a local step, the node reads its own slots: the last pulling step
+          // wrote the rule there as it stood then; it stands here now (two buffers read it now).
+          if (in_place() && !pulled_) storage_.buffer(0)[i * storage_.stride() + cell(part == 0 ? 0 : nx - 1, y, z)] = entering;
+        }
+      }
+  }
 }
 
 template <class L, class T>
@@ -250,18 +284,20 @@ void FluidLattice<L, T>::run(long steps) {
 template <class L, class T>
 typename FluidLattice<L, T>::Slot FluidLattice<L, T>::slot(int i, int x, int y, int z) const {
   const long c = cell(x, y, z);
-  if (in_place() && !pulled_) return {i * storage_.stride() + c, T(0)};
-  const auto& s = plans_.for_row(y, z).sources[RowPlans<L, T>::part_of(x, config_.nx)][i];
+  if (in_place() && !pulled_) return {i * storage_.stride() + c, T(0), T(1)};
+  const auto& s = plans_.sources(x, y, z)[i];
   // Two buffers keep f*_j at slot j of the source node; in place the even step left it reversed.
   const int stored_as = in_place() ? lattice::opposite<L>(s.dir) : s.dir;
-  return {stored_as * storage_.stride() + c + s.delta, s.correction};
+  return {stored_as * storage_.stride() + c + s.delta, s.correction, s.scale};
 }
 
 template <class L, class T>
-std::array<long, L::Q> FluidLattice<L, T>::injection_slots(const RowPlan<T, L::Q>& plan, int part) const {
+typename FluidLattice<L, T>::InjectionSlots FluidLattice<L, T>::injection_slots(const PullSources<T, L::Q>& sources) const {
   const long stride = storage_.stride();
   constexpr auto opp = lattice::opposite_table<L>();
-  std::array<long, Q> offset;
+  InjectionSlots slots;
+  auto& offset = slots.offset;
+  slots.scale.fill(T(1));
   for (int i = 0; i < Q; ++i) {
     // Where the last step stored post-collision population i of the node: the buffer just
     // written holds it at i (two buffers); an even in-place step wrote it reversed, locally; an
@@ -271,11 +307,12 @@ std::array<long, L::Q> FluidLattice<L, T>::injection_slots(const RowPlan<T, L::Q
     } else if (pulled_) {
       offset[i] = opp[i] * stride;
     } else {
-      const auto& s = plan.sources[part][opp[i]];
+      const auto& s = sources[opp[i]];
       offset[i] = opp[s.dir] * stride + s.delta;
+      slots.scale[i] = s.scale;
     }
   }
-  return offset;
+  return slots;
 }
 
 template <class L, class T>
@@ -290,19 +327,19 @@ void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const Vec3* dp, lon
   T* f = storage_.buffer(in_place() ? 0 : current_);
   const bool prefetch = worth_prefetching(nodes, count);
   long row_part = -1;  // of the slots below
-  std::array<long, Q> offset{};
+  InjectionSlots slots{};
   for (long k = 0; k < count; ++k) {
     const auto& [x, y, z] = nodes[k];
     const int part = RowPlans<L, T>::part_of(x, config_.nx);
-    if (const long here = 3 * (y + static_cast<long>(config_.ny) * z) + part; here != row_part) {
-      offset = injection_slots(plans_.for_row(y, z), part);
-      row_part = here;
+    if (const long row = y + static_cast<long>(config_.ny) * z; 3 * row + part != row_part) {
+      slots = injection_slots(plans_.sources(row, part));
+      row_part = 3 * row + part;
     }
-    if (prefetch && k + kPrefetchAhead < count) prefetch_node(f, nodes[k + kPrefetchAhead], offset, /*for_write=*/true);
+    if (prefetch && k + kPrefetchAhead < count) prefetch_node(f, nodes[k + kPrefetchAhead], slots.offset, /*for_write=*/true);
     T* at = f + cell(x, y, z);
     for (int i = 0; i < Q; ++i) {
       const double c_dot_dp = L::c[i][0] * dp[k][0] + L::c[i][1] * dp[k][1] + L::c[i][2] * dp[k][2];
-      at[offset[i]] += static_cast<T>(L::w[i] * c_dot_dp / L::cs2);
+      at[slots.offset[i]] += static_cast<T>(L::w[i] * c_dot_dp / L::cs2) * slots.scale[i];
     }
   }
 }
@@ -310,34 +347,36 @@ void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const Vec3* dp, lon
 template <class L, class T>
 std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
   // The row plan looked up once for all directions (the coupling calls this per particle per step).
-  return gather_in_row(plans_.for_row(y, z), x, cell(x, y, z));
+  return gather_at(plans_.sources(x, y, z), cell(x, y, z));
 }
 
 template <class L, class T>
-typename FluidLattice<L, T>::RowSlots FluidLattice<L, T>::read_slots(const RowPlan<T, L::Q>& plan, int part) const {
+typename FluidLattice<L, T>::RowSlots FluidLattice<L, T>::read_slots(const PullSources<T, L::Q>& sources) const {
   // slot() for every direction.
   const long stride = storage_.stride();
   RowSlots slots{};
+  slots.scale.fill(T(1));
   if (in_place() && !pulled_) {
     for (int i = 0; i < Q; ++i) slots.offset[i] = i * stride;
     return slots;
   }
   constexpr auto opp = lattice::opposite_table<L>();
   for (int i = 0; i < Q; ++i) {
-    const auto& s = plan.sources[part][i];
+    const auto& s = sources[i];
     const int stored_as = in_place() ? opp[s.dir] : s.dir;
     slots.offset[i] = stored_as * stride + s.delta;
     slots.correction[i] = s.correction;
+    slots.scale[i] = s.scale;
   }
   return slots;
 }
 
 template <class L, class T>
-std::array<T, L::Q> FluidLattice<L, T>::gather_in_row(const RowPlan<T, L::Q>& plan, int x, long c) const {
+std::array<T, L::Q> FluidLattice<L, T>::gather_at(const PullSources<T, L::Q>& sources, long c) const {
   const T* f = storage_.buffer(in_place() ? 0 : current_) + c;
-  const RowSlots slots = read_slots(plan, RowPlans<L, T>::part_of(x, config_.nx));
+  const RowSlots slots = read_slots(sources);
   std::array<T, Q> g;
-  for (int i = 0; i < Q; ++i) g[i] = f[slots.offset[i]] + slots.correction[i];
+  for (int i = 0; i < Q; ++i) g[i] = f[slots.offset[i]] * slots.scale[i] + slots.correction[i];
   return g;
 }
 
@@ -351,15 +390,15 @@ void FluidLattice<L, T>::gather_momenta(const NodeIndex* nodes, long count, Dens
   for (long k = 0; k < count; ++k) {
     const auto& [x, y, z] = nodes[k];
     const int part = RowPlans<L, T>::part_of(x, config_.nx);
-    if (const long here = 3 * (y + static_cast<long>(config_.ny) * z) + part; here != row_part) {
-      plan = &plans_.for_row(y, z);
-      slots = read_slots(*plan, part);
-      row_part = here;
+    if (const long row = y + static_cast<long>(config_.ny) * z; 3 * row + part != row_part) {
+      plan = &plans_.for_row(row);
+      slots = read_slots(plans_.sources(row, part));
+      row_part = 3 * row + part;
     }
     if (prefetch && k + kPrefetchAhead < count) prefetch_node(f, nodes[k + kPrefetchAhead], slots.offset, /*for_write=*/false);
     const T* at = f + cell(x, y, z);
     std::array<T, Q> g;
-    for (int i = 0; i < Q; ++i) g[i] = at[slots.offset[i]] + slots.correction[i];
+    for (int i = 0; i < Q; ++i) g[i] = at[slots.offset[i]] * slots.scale[i] + slots.correction[i];
     out[k] = density_momentum_of(g, *plan);
   }
 }
@@ -390,7 +429,7 @@ template <class L, class T>
 template <class L, class T>
 Moments FluidLattice<L, T>::moments(int x, int y, int z) const {
   const auto& plan = plans_.for_row(y, z);
-  return moments_of(gather_in_row(plan, x, cell(x, y, z)), plan);
+  return moments_of(gather_at(plans_.sources(x, y, z), cell(x, y, z)), plan);
 }
 
 template <class L, class T>
@@ -400,7 +439,7 @@ void FluidLattice<L, T>::for_each_row_moment(int y, int z, int first, int count,
   const int nx = config_.nx;
   const long c0 = cell(0, y, z);
   // The interior nodes share one set of sources: where each population lies, as an offset from
-  // the node, and what to add to it (gather_in_row() for one node, here for the row).
+  // the node, and what to add to it (gather_at() for one node, here for the row).
   const T* f = storage_.buffer(in_place() ? 0 : current_);
   const long stride = storage_.stride();
   const bool plain = in_place() && !pulled_;
@@ -418,7 +457,7 @@ void FluidLattice<L, T>::for_each_row_moment(int y, int z, int first, int count,
   std::array<T, Q> g;
   for (int x = first; x < first + count; ++x) {
     if (x == 0 || x == nx - 1) {
-      visit(x, moments_of(gather_in_row(plan, x, c0 + x), plan));
+      visit(x, moments_of(gather_at(plans_.sources(x, y, z), c0 + x), plan));
       continue;
     }
     if (plain)

@@ -7,7 +7,7 @@
 //              into its own cell, A[opp(i)][x] = f*_i. No neighbour is touched.
 //   odd step:  a cell pulls through the row plan: population k comes from f*_j at node s, which
 //              the even step left in A[opp(j)][s]. After colliding it writes f*_k into the slot it
-//              read for opp(k), adding that entry's wall correction; that slot is where the next
+//              read for opp(k), through that entry's wall rule; that slot is where the next
 //              even step finds the population arriving downstream. The wall rules are involutions,
 //              so the slots a cell reads are exactly the slots it writes and cells never collide
 //              (FluidLattice checks this once per configuration).
@@ -30,12 +30,12 @@ LBSOLID_FORCE_INLINE void collide_local_rows(const RowPlans<L, T>& plans, T* f, 
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
     const T* in[Q];
     T* out[Q];
-    const T no_corr[Q] = {};
+    constexpr auto no_wall = WallMap<T, Q>::identity();
     for (int i = 0; i < Q; ++i) {
       in[i] = f + i * stride;
       out[i] = f + opp[i] * stride;
     }
-    update_cells<L, T, Collision, kForce, false>(in, no_corr, out, no_corr, force, rates, rho0,
+    update_cells<L, T, Collision, kForce, false>(in, no_wall, out, no_wall, force, rates, rho0,
                                                  first * nx, (last + 1) * nx);
     first = last + 1;
   }
@@ -52,21 +52,24 @@ LBSOLID_FORCE_INLINE void stream_collide_in_place_rows(const RowPlans<L, T>& pla
     auto sweep = [&](int part, long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
       const T* in[Q];
       T* slot[Q];
-      T corr[Q];
+      WallMap<T, Q> in_map;
+      const PullSources<T, Q>& sources = plans.sources(row, part);
       for (int k = 0; k < Q; ++k) {
-        const auto& s = plan.sources[part][k];
+        const auto& s = sources[k];
         slot[k] = f + opp[s.dir] * stride + s.delta;
         in[k] = slot[k];
-        corr[k] = s.correction;
+        in_map.scale[k] = s.scale;
+        in_map.shift[k] = s.correction;
       }
-      // Population k goes back into the slot read for opp(k), with that entry's correction.
+      // Population k goes back into the slot read for opp(k), through that entry's wall rule.
       T* out[Q];
-      T out_corr[Q];
+      WallMap<T, Q> out_map;
       for (int k = 0; k < Q; ++k) {
         out[k] = slot[opp[k]];
-        out_corr[k] = corr[opp[k]];
+        out_map.scale[k] = in_map.scale[opp[k]];
+        out_map.shift[k] = in_map.shift[opp[k]];
       }
-      update_corrected_cells<L, T, Collision, kForce>(in, corr, out, out_corr, force, rates, rho0, begin, end);
+      update_corrected_cells<L, T, Collision, kForce>(in, in_map, out, out_map, force, rates, rho0, begin, end);
     };
     const long row_start = row * nx;
     sweep(0, row_start, row_start + 1);

@@ -7,6 +7,16 @@
 //   free-slip:    the mirrored population from the node upstream along the wall. On the staggered
 //                 D2Q7 rows the mirrored population travels one whole node along the wall, which is
 //                 exact for flow uniform along the wall.
+//   velocity inlet: the moving wall's rule with the inflow velocity u (normal to the side): Ladd's
+//                 bounce-back then adds exactly rho0 u per node and step (MODEL.md section 1).
+//   pressure outlet: what enters is the equilibrium f_i = f^eq_i(rho_out, u), u the velocity one
+//                 node upstream: scale 0 and the equilibrium as the correction. The rule here is
+//                 its value at u = 0; FluidLattice sets u after every step (refresh_outlet_corrections).
+//                 Tried first and dropped: anti-bounce-back, f_i = -f*_opp(i) + 2 w_i rho_out
+//                 (to first order, and with the u^2 term from that velocity): it blew up within
+//                 a few hundred steps in a 128 x 32 channel at u_max 0.02 and omega 1.6, where the
+//                 equilibrium stays bounded up to u_max 0.2 (tests/hard_cases/fast_inlet_test.cpp).
+// A population is read as scale * source + correction; scale is 0 only at a pressure outlet.
 #include <array>
 
 #include "fluid/fluid_config.h"
@@ -18,6 +28,7 @@ struct PullSourceRule {
   int dir;
   std::array<int, 3> node;
   double correction;
+  double scale = 1.0;
 };
 
 template <class L>
@@ -42,6 +53,14 @@ PullSourceRule resolve_pull_source(const FluidConfig& cfg, int i, int x, int y, 
       double cu = 0;
       for (int a = 0; a < 3; ++a) cu += L::c[i][a] * wall.wall_velocity[a];
       return {back, {x, y, z}, 2.0 * L::w[i] * cfg.rho0 * cu / L::cs2};
+    }
+    if (wall.kind == WallKind::kVelocityInlet) {  // an x side: the inflow runs along +-x
+      const double u = (side == kXLow ? 1.0 : -1.0) * inflow_speed_at(cfg, side, y, z);
+      return {back, {x, y, z}, 2.0 * L::w[i] * cfg.rho0 * L::c[i][0] * u / L::cs2};
+    }
+    if (wall.kind == WallKind::kPressureOutlet) {
+      const double rho_out = wall.outflow_density > 0 ? wall.outflow_density : cfg.rho0;
+      return {back, {x, y, z}, L::w[i] * (rho_out - cfg.rho0), 0.0};  // the slot pairs as bounce-back's
     }
     // Free-slip: specular reflection off the wall normal to `axis`.
     int t[3] = {x, y, z};

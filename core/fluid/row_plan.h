@@ -3,6 +3,8 @@
 // they touch a y or z side and (D2Q7) in their parity, and cells of a row only in whether they are
 // the first, an interior or the last cell; so a handful of plans describes the whole grid and the
 // fused kernel reads each population as `base[x] + correction` with no branch per cell.
+// Open x sides differ from row to row (an inlet's profile): with one, the first and last cell of
+// every row get sources of their own (sources(row, part)), and the rows still share the interior.
 #include <array>
 #include <vector>
 
@@ -16,12 +18,16 @@ struct PullSource {
   int dir = 0;
   long delta = 0;  // source cell minus destination cell
   T correction = 0;
+  T scale = 1;  // 0 at a pressure outlet (what enters there is set, not carried)
 };
+
+template <class T, int Q>
+using PullSources = std::array<PullSource<T, Q>, Q>;
 
 template <class T, int Q>
 struct RowPlan {
   // [0] the first cell of the row, [1] interior cells, [2] the last cell.
-  std::array<std::array<PullSource<T, Q>, Q>, 3> sources{};
+  std::array<PullSources<T, Q>, 3> sources{};
   T force[3] = {0, 0, 0};  // body force plus the traction of an adjacent free-slip wall
   bool present = false;
 };
@@ -37,15 +43,7 @@ class RowPlans {
         RowPlan<T, Q>& plan = plans_[key(y, z)];
         if (plan.present) continue;
         plan.present = true;
-        const int xs[3] = {0, nx_ > 2 ? 1 : 0, nx_ - 1};
-        for (int part = 0; part < 3; ++part) {
-          const long dest = cell(xs[part], y, z);
-          for (int i = 0; i < Q; ++i) {
-            const PullSourceRule r = resolve_pull_source<L>(cfg, i, xs[part], y, z);
-            plan.sources[part][i] = {r.dir, cell(r.node[0], r.node[1], r.node[2]) - dest,
-                                     static_cast<T>(r.correction)};
-          }
-        }
+        for (int part = 0; part < 3; ++part) plan.sources[part] = resolve(cfg, part, y, z);
         Vec3 force = cfg.body_force;
         auto add_traction = [&](int side) {
           if (cfg.sides[side].kind != WallKind::kFreeSlip) return;
@@ -58,6 +56,28 @@ class RowPlans {
         for (int a = 0; a < 3; ++a) plan.force[a] = static_cast<T>(force[a]);
       }
     }
+    if (!is_open(cfg.sides[kXLow].kind) && !is_open(cfg.sides[kXHigh].kind)) return;
+    const long rows = static_cast<long>(ny_) * nz_;
+    edge_sources_.resize(2 * rows);
+    for (long row = 0; row < rows; ++row) {
+      const int y = static_cast<int>(row % ny_), z = static_cast<int>(row / ny_);
+      edge_sources_[2 * row] = resolve(cfg, 0, y, z);
+      edge_sources_[2 * row + 1] = resolve(cfg, 2, y, z);
+    }
+  }
+
+  // The sources of the cells of `part` (part_of) of a row.
+  const PullSources<T, Q>& sources(long row, int part) const {
+    if (part != 1 && !edge_sources_.empty()) return edge_sources_[2 * row + part / 2];
+    return for_row(row).sources[part];
+  }
+  const PullSources<T, Q>& sources(int x, int y, int z) const {
+    return sources(y + static_cast<long>(ny_) * z, part_of(x, nx_));
+  }
+  // Sets the correction of population i at the first (part 0) or last (part 2) cell of `row`:
+  // a pressure outlet's follows the flow beside it (FluidLattice::refresh_outlet_corrections).
+  void set_edge_correction(long row, int part, int i, T correction) {
+    edge_sources_[2 * row + part / 2][i].correction = correction;
   }
 
   const RowPlan<T, Q>& for_row(int y, int z) const { return plans_[key(y, z)]; }
@@ -78,6 +98,18 @@ class RowPlans {
   }
 
  private:
+  // The sources of the first cell of the row (part 0), an interior one (1) or the last (2).
+  PullSources<T, Q> resolve(const FluidConfig& cfg, int part, int y, int z) const {
+    const int xs[3] = {0, nx_ > 2 ? 1 : 0, nx_ - 1};
+    const long dest = cell(xs[part], y, z);
+    PullSources<T, Q> sources;
+    for (int i = 0; i < Q; ++i) {
+      const PullSourceRule r = resolve_pull_source<L>(cfg, i, xs[part], y, z);
+      sources[i] = {r.dir, cell(r.node[0], r.node[1], r.node[2]) - dest, static_cast<T>(r.correction),
+                    static_cast<T>(r.scale)};
+    }
+    return sources;
+  }
   int key(int y, int z) const {
     const int ycat = (y == 0 ? 1 : 0) | (y == ny_ - 1 ? 2 : 0);
     const int zcat = (z == 0 ? 1 : 0) | (z == nz_ - 1 ? 2 : 0);
@@ -86,6 +118,7 @@ class RowPlans {
   }
   int nx_ = 0, ny_ = 0, nz_ = 0;
   std::vector<RowPlan<T, Q>> plans_;
+  std::vector<PullSources<T, Q>> edge_sources_;  // per row: [2 row] its first cell, [2 row + 1] its last
 };
 
 }  // namespace lbsolid::fluid

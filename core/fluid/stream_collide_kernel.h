@@ -19,27 +19,29 @@ LBSOLID_FORCE_INLINE void stream_collide_rows(const RowPlans<L, T>& plans, const
                          long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
   constexpr int Q = L::Q;
   // Updates cells [begin, end) reading population i at cell + sources[i].delta.
-  auto sweep = [&](const RowPlan<T, Q>& plan, int part, long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
+  auto sweep = [&](const RowPlan<T, Q>& plan, const PullSources<T, Q>& sources, long begin, long end)
+                   LBSOLID_FORCE_INLINE_LAMBDA {
     const T* in[Q];
     T* out[Q];
-    T corr[Q];
-    const T no_corr[Q] = {};
+    WallMap<T, Q> in_map;
+    constexpr auto no_wall = WallMap<T, Q>::identity();
     for (int i = 0; i < Q; ++i) {
-      const auto& s = plan.sources[part][i];
+      const auto& s = sources[i];
       in[i] = src + s.dir * stride + s.delta;
       out[i] = dst + i * stride;
-      corr[i] = s.correction;
+      in_map.scale[i] = s.scale;
+      in_map.shift[i] = s.correction;
     }
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
-    update_corrected_cells<L, T, Collision, kForce>(in, corr, out, no_corr, force, rates, rho0, begin, end);
+    update_corrected_cells<L, T, Collision, kForce>(in, in_map, out, no_wall, force, rates, rho0, begin, end);
   };
   for (long first = row_begin; first < row_end;) {
     const RowPlan<T, Q>& plan = plans.for_row(first);
     const long last = plans.last_row_sharing_plan(first, row_end);
-    if (nx > 2) sweep(plan, 1, first * nx + 1, last * nx + nx - 1);
+    if (nx > 2) sweep(plan, plan.sources[1], first * nx + 1, last * nx + nx - 1);
     for (long row = first; row <= last; ++row) {
-      sweep(plan, 0, row * nx, row * nx + 1);
-      if (nx > 1) sweep(plan, 2, row * nx + nx - 1, row * nx + nx);
+      sweep(plan, plans.sources(row, 0), row * nx, row * nx + 1);
+      if (nx > 1) sweep(plan, plans.sources(row, 2), row * nx + nx - 1, row * nx + nx);
     }
     first = last + 1;
   }

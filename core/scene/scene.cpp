@@ -130,6 +130,30 @@ void check_monitor(const MonitorSpec& m, std::vector<std::string>& errors) {
                      number(l.max_density));
 }
 
+// An inlet's speed and an outlet's density against what the fluid can carry and, with the
+// monitor on, against its limits: a side that breaks them would stop the run at its first check.
+void check_open_side(const Scene& scene, int side, std::vector<std::string>& errors) {
+  const auto& b = scene.fluid.sides[side];
+  const std::string field = std::string("sides.") + fluid::side_name(side);
+  const auto& limits = scene.monitor.limits;
+  const bool monitored = scene.monitor.interval > 0;
+  if (b.kind == fluid::WallKind::kVelocityInlet) {
+    const double m = std::abs(b.inflow_speed) / sound_speed(scene.lattice);
+    if (!(m < 1))
+      errors.push_back(field + ".inflow_speed: Mach number " + number(m) + " must stay below 1");
+    else if (monitored && !(m < limits.max_mach))
+      errors.push_back(field + ".inflow_speed: Mach number " + number(m) + " reaches the monitor's max_mach " +
+                       number(limits.max_mach));
+  }
+  if (b.kind == fluid::WallKind::kPressureOutlet && b.outflow_density > 0) {
+    const double ratio = b.outflow_density / scene.fluid.rho0;
+    if (monitored && !(ratio > limits.min_density && ratio < limits.max_density))
+      errors.push_back(field + ".outflow_density: " + number(b.outflow_density) + " lies outside the monitor's band (" +
+                       number(limits.min_density * scene.fluid.rho0) + ", " +
+                       number(limits.max_density * scene.fluid.rho0) + ")");
+  }
+}
+
 // Speeds at or above the speed of sound cannot be stable: the equilibrium is a low-Mach
 // expansion whose populations go negative near Mach 1, and a particle coupled to a node moving
 // that fast drags it there in one step.
@@ -140,6 +164,7 @@ void check_speeds(const Scene& scene, std::vector<std::string>& errors) {
     if (b.kind == fluid::WallKind::kMovingWall && !(mach(scene, b.wall_velocity) < 1))
       errors.push_back(std::string("sides.") + fluid::side_name(side) + ".wall_velocity: Mach number " +
                        number(mach(scene, b.wall_velocity)) + " must stay below 1");
+    check_open_side(scene, side, errors);
   }
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     if (!(mach(scene, scene.bodies[b].velocity) < 1))
@@ -336,6 +361,10 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
     if (b.kind == fluid::WallKind::kMovingWall && m > kMachWarning)
       warnings.push_back(std::string("sides.") + fluid::side_name(side) + ".wall_velocity: Mach number " + number(m) +
                          " is above " + number(kMachWarning));
+    const double inflow = std::abs(b.inflow_speed) / sound_speed(scene.lattice);
+    if (b.kind == fluid::WallKind::kVelocityInlet && inflow > kMachWarning)
+      warnings.push_back(std::string("sides.") + fluid::side_name(side) + ".inflow_speed: Mach number " +
+                         number(inflow) + " is above " + number(kMachWarning));
   }
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     const double m = mach(scene, scene.bodies[b].velocity);

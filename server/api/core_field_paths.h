@@ -8,7 +8,8 @@
 //   omega, rho0, body_force, threads,
 //   streaming, collision, trt_magic     -> scenario.fluid.<same>
 //   sides.<side> (the side's kind)      -> scenario.domain.<side>.kind
-//   sides.<side>.wall_velocity|traction -> scenario.domain.<side>.<same>
+//   sides.<side>.<field>                -> scenario.domain.<side>.<same> (wall_velocity, traction,
+//                                          inflow_speed, inflow_profile, outflow_density)
 //   bodies                              -> scenario.bodies
 //   bodies[b].<field>                   -> scenario.bodies[<index in the scenario>].<field>
 //   contact.restitution                 -> scenario.contact.restitution

@@ -37,6 +37,17 @@ inline std::optional<fluid::WallKind> wall_kind_of(lbsolid::v1::WallKind value) 
     case lbsolid::v1::WALL_KIND_BOUNCE_BACK: return fluid::WallKind::kBounceBack;
     case lbsolid::v1::WALL_KIND_MOVING_WALL: return fluid::WallKind::kMovingWall;
     case lbsolid::v1::WALL_KIND_FREE_SLIP: return fluid::WallKind::kFreeSlip;
+    case lbsolid::v1::WALL_KIND_VELOCITY_INLET: return fluid::WallKind::kVelocityInlet;
+    case lbsolid::v1::WALL_KIND_PRESSURE_OUTLET: return fluid::WallKind::kPressureOutlet;
+    default: return std::nullopt;
+  }
+}
+
+inline std::optional<fluid::InflowProfile> inflow_profile_of(lbsolid::v1::InflowProfile value) {
+  switch (value) {
+    case lbsolid::v1::INFLOW_PROFILE_UNSPECIFIED:
+    case lbsolid::v1::INFLOW_PROFILE_UNIFORM: return fluid::InflowProfile::kUniform;
+    case lbsolid::v1::INFLOW_PROFILE_PARABOLIC: return fluid::InflowProfile::kParabolic;
     default: return std::nullopt;
   }
 }

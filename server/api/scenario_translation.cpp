@@ -160,6 +160,13 @@ void translate_domain(const v1::Scenario& in, int dimension, scene::Scene& out, 
                                path + ".kind", problems);
     side.wall_velocity = vec(sides[s]->wall_velocity(), dimension);
     side.traction = vec(sides[s]->traction(), dimension);
+    side.inflow_speed = sides[s]->inflow_speed();
+    side.inflow_profile = enum_or_report(inflow_profile_of(sides[s]->inflow_profile()), sides[s]->inflow_profile(),
+                                         v1::InflowProfile_descriptor(), path + ".inflow_profile", problems);
+    // The core takes 0 for rho0; a density set to 0 is an error, not the default.
+    side.outflow_density = sides[s]->has_outflow_density() ? sides[s]->outflow_density() : 0.0;
+    if (sides[s]->has_outflow_density() && sides[s]->outflow_density() == 0.0)
+      problems.push_back({path + ".outflow_density", "must be a positive density (leave it unset for rho0)"});
     // The core skips the z sides of a 2D lattice (it rejects only their kind); a vector set there
     // would be silently lost.
     if (dimension == 2 && s >= fluid::kZLow) {

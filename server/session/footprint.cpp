@@ -1,6 +1,7 @@
 #include "server/session/footprint.h"
 
 #include "coupling/momentum_exchange.h"
+#include "fluid/row_plan.h"
 #include "server/session/session.h"
 
 #include <algorithm>
@@ -114,7 +115,17 @@ Footprint estimate_footprint(const v1::Scenario& scenario) {
   const bool rotating = std::any_of(scenario.bodies().begin(), scenario.bodies().end(),
                                     [](const v1::Body& body) { return body.rotation(); });
   const long long solid = saturating_product(f.particles, bytes_per_particle(dimension, with_fluid, rotating));
-  f.resident_bytes = saturating_sum(saturating_sum(populations, exchange_cells), solid);
+  // Open x sides give the first and last cell of every row sources of their own (fluid/row_plan.h):
+  // Q of them a cell.
+  auto open = [](const v1::Side& side) {
+    return side.kind() == v1::WALL_KIND_VELOCITY_INLET || side.kind() == v1::WALL_KIND_PRESSURE_OUTLET;
+  };
+  const long long edge_sources =
+      with_fluid && (open(d.x_low()) || open(d.x_high()))
+          ? saturating_product(saturating_product(std::max(0, d.ny()), nz), 2 * q * static_cast<long long>(value_bytes == 8 ? sizeof(fluid::PullSource<double, 1>)
+                                                                                     : sizeof(fluid::PullSource<float, 1>)))
+          : 0;
+  f.resident_bytes = saturating_sum(saturating_sum(saturating_sum(populations, exchange_cells), solid), edge_sources);
 
   // A save copies the populations as doubles and the solid's positions, links and momenta; field
   // reads copy density and velocity (4 doubles a node), Session::kFieldSnapshots copies at most.

@@ -31,10 +31,13 @@ void expect_pairs_equal_together(bool in_place) {
   std::uniform_real_distribution<double> deviation(-0.02, 0.02);
   std::vector<double> source(Q * kCells);
   for (double& v : source) v = deviation(random);
-  double in_correction[Q], out_correction[Q];
-  for (int i = 0; i < Q; ++i) {
-    in_correction[i] = kCorrections ? deviation(random) : 0.0;
-    out_correction[i] = kCorrections ? deviation(random) : 0.0;
+  // Walls shift populations, and scale them (cell_update.h: WallMap; 0 at a pressure outlet).
+  auto in_map = WallMap<double, Q>::identity(), out_map = WallMap<double, Q>::identity();
+  for (int i = 0; kCorrections && i < Q; ++i) {
+    in_map.shift[i] = deviation(random);
+    out_map.shift[i] = deviation(random);
+    in_map.scale[i] = i % 3 == 1 ? 0.0 : 1.0;
+    out_map.scale[i] = i % 4 == 2 ? 0.0 : 1.0;
   }
   const double force[3] = {kForce ? 1e-3 : 0.0, kForce ? -2e-3 : 0.0, kForce && L::D == 3 ? 5e-4 : 0.0};
   const double omega = 1.3, rho0 = 1.0;
@@ -49,10 +52,10 @@ void expect_pairs_equal_together(bool in_place) {
     }
     using Bgk = BgkCollision<L, double>;
     if (by_pairs)
-      update_cells_by_pairs<L, double, Bgk, kForce, kCorrections>(in, in_correction, out, out_correction, force, omega,
+      update_cells_by_pairs<L, double, Bgk, kForce, kCorrections>(in, in_map, out, out_map, force, omega,
                                                                   rho0, 0, kCells);
     else
-      update_cells_together<L, double, Bgk, kForce, kCorrections>(in, in_correction, out, out_correction, force, omega,
+      update_cells_together<L, double, Bgk, kForce, kCorrections>(in, in_map, out, out_map, force, omega,
                                                                   rho0, 0, kCells);
     return in_place ? a : b;
   };

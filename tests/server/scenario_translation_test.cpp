@@ -207,7 +207,10 @@ TEST(ScenarioTranslation, WallKindsMapOnEverySide) {
                                                            {"WALL_KIND_PERIODIC", fluid::WallKind::kPeriodic},
                                                            {"WALL_KIND_BOUNCE_BACK", fluid::WallKind::kBounceBack},
                                                            {"WALL_KIND_MOVING_WALL", fluid::WallKind::kMovingWall},
-                                                           {"WALL_KIND_FREE_SLIP", fluid::WallKind::kFreeSlip}};
+                                                           {"WALL_KIND_FREE_SLIP", fluid::WallKind::kFreeSlip},
+                                                           // x sides only: the others are errors, but mapped
+                                                           {"WALL_KIND_VELOCITY_INLET", fluid::WallKind::kVelocityInlet},
+                                                           {"WALL_KIND_PRESSURE_OUTLET", fluid::WallKind::kPressureOutlet}};
   for (const auto& [name, kind] : kinds) {
     const std::string side = std::string("{ kind: ") + name + " }";
     const TranslatedScenario t =
@@ -846,7 +849,8 @@ TEST(ScenarioFiles, EveryFileTranslatesBuildsAndRuns) {
   std::sort(names.begin(), names.end());
   for (const char* expected :
        {"fig1_bouncing_sheet.textproto", "fig4_pulled_solid.textproto", "fig5_drag_disk.textproto",
-        "fig6_chains_shear.textproto", "sedimentation_3d.textproto", "poiseuille_channel.textproto"})
+        "fig6_chains_shear.textproto", "sedimentation_3d.textproto", "poiseuille_channel.textproto",
+        "open_channel.textproto"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected << " missing from " << dir;
   for (const std::string& name : names) {
     SCOPED_TRACE(name);
