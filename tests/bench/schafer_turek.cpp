@@ -119,11 +119,16 @@ int main(int argc, char** argv) {
   }
   if (resolutions.empty()) resolutions = {10, 20, 40};
   std::printf("Schafer & Turek %s, Re %.0f, reference %s\n", c->name, c->reynolds, c->reference);
-  try {
-    for (int d : resolutions) run(*c, d);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "lbsolid-schafer-turek: %s\n", e.what());
-    return 1;
+  std::fflush(stdout);
+  int failed = 0;
+  for (int d : resolutions) {
+    try {
+      run(*c, d);
+    } catch (const std::exception& e) {  // the monitor's stop: say where, go on with the next
+      std::printf("%s  D %3d  stopped: %s\n", c->name, d, e.what());
+      ++failed;
+    }
+    std::fflush(stdout);
   }
-  return 0;
+  return failed > 0 ? 1 : 0;
 }
