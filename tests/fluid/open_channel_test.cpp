@@ -62,6 +62,19 @@ double inflow_per_step(const FluidConfig& c) {
   return total;
 }
 
+// The line the channel's mean density follows over the middle half of its length.
+template <class L>
+observe::LineFit pressure_line(const FluidLattice<L, double>& fluid) {
+  std::vector<double> xs, rho;
+  for (int x = kLength / 4; x < 3 * kLength / 4; ++x) {
+    double sum = 0;
+    for (int y = 0; y < kWidth; ++y) sum += fluid.density(x, y, 0);
+    xs.push_back(fluid::FluidLattice<L, double>::position(x, 0, 0)[0]);
+    rho.push_back(sum / kWidth);
+  }
+  return fit_line(xs, rho);
+}
+
 template <class L>
 class OpenChannelTest : public ::testing::Test {};
 using Lattices = ::testing::Types<D2Q9, D2Q7, D3Q19>;
@@ -105,14 +118,7 @@ TYPED_TEST(OpenChannelTest, SettlesToPoiseuilleFlowWithWhatEntersLeaving) {
     // The pressure gradient of plane Poiseuille flow, fitted over the middle half of the channel.
     const double h = kWidth * L::row_spacing;
     const double nu = trt_viscosity<L>();
-    std::vector<double> xs, rho;
-    for (int x = kLength / 4; x < 3 * kLength / 4; ++x) {
-      double sum = 0;
-      for (int y = 0; y < kWidth; ++y) sum += fluid.density(x, y, 0);
-      xs.push_back(fluid::FluidLattice<L, double>::position(x, 0, 0)[0]);
-      rho.push_back(sum / kWidth);
-    }
-    const auto line = fit_line(xs, rho);
+    const auto line = pressure_line(fluid);
     const double expected = -8.0 * nu * c.rho0 * kPeak / (L::cs2 * h * h);
     // Mass flux rho u is what the channel carries; the density falls by 0.5% over its length
     // (-expected * kLength), so u_max and with it the gradient vary by about as much: twice that.
@@ -144,14 +150,7 @@ observe::LineFit steady_pressure_line(double outflow_density) {
   c.sides[fluid::kXHigh].outflow_density = outflow_density;
   FluidLattice<L, double> fluid(c);
   run_to_steady_profile(fluid, 1e-12, 60000);
-  std::vector<double> xs, rho;
-  for (int x = kLength / 4; x < 3 * kLength / 4; ++x) {
-    double sum = 0;
-    for (int y = 0; y < kWidth; ++y) sum += fluid.density(x, y, 0);
-    xs.push_back(fluid::FluidLattice<L, double>::position(x, 0, 0)[0]);
-    rho.push_back(sum / kWidth);
-  }
-  return fit_line(xs, rho);
+  return pressure_line(fluid);
 }
 
 // The outlet sets the pressure level: lowering rho_out lowers the whole line by as much. The
