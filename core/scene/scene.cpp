@@ -330,6 +330,17 @@ std::vector<std::string> validate_scene(const Scene& scene) {
     if (any_rotating && !body.rotation)
       errors.push_back(field + ": a scene with rotating bodies cannot have anchors yet");
   }
+  // Fracture: a shed particle (M = 0) takes no part in the exchange, which the pairwise rule's
+  // 1/M cannot express; beside rotating bodies the torque record would keep a shed particle's last
+  // force.
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    if (!scene.bodies[b].fracture.enabled()) continue;
+    const std::string field = "bodies[" + std::to_string(b) + "].fracture";
+    if (scene.exchange == coupling::ExchangeRule::kPairwise && scene.with_fluid)
+      errors.push_back(field + ": breaking bodies need the common-velocity exchange rule");
+    if (any_rotating && !scene.bodies[b].rotation)
+      errors.push_back(field + ": a scene with rotating bodies cannot have breaking bodies yet");
+  }
   // Placement needs only a box with a size; other errors do not hide a misplaced body.
   const bool box_ok = scene.fluid.nx >= 1 && scene.fluid.ny >= 1 && scene.fluid.nz >= 1;
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include "coupling/node_locator.h"
@@ -11,10 +12,12 @@
 #include "observe/stability.h"
 #include "observe/velocity_profile.h"
 #include "scene/stages/exchange_stage.h"
+#include "scene/stages/fracture_stage.h"
 #include "scene/stages/fluid_stage.h"
 #include "scene/stages/rotation_stage.h"
 #include "scene/stages/solid_stage.h"
 #include "scene/stages/anchor_record.h"
+#include "scene/stages/particle_forces.h"
 #include "scene/stages/torque_record.h"
 #include "solid/wall_contact.h"
 
@@ -32,7 +35,7 @@ class SimulationImpl final : public Simulation {
         locator_(scene.fluid),
         pool_(pool ? std::move(pool) : std::make_shared<parallel::ThreadPool>(scene.fluid.threads)) {
     if (scene.with_fluid) fluid_ = std::make_unique<fluid::FluidLattice<L, T>>(scene.fluid, pool_);
-    bool loads = false, rotating = false;
+    bool loads = false, rotating = false, point_loads = false, fracture = false;
     if (!scene.bodies.empty()) {
       solid_ = std::make_unique<solid::SolidSystem>(L::D);
       for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
@@ -44,6 +47,19 @@ class SimulationImpl final : public Simulation {
           if (solid::is_anchored(spec, labels[q])) solid_->anchor(solid_->body(body).first + static_cast<int>(q));
         loads = loads || nonzero(spec.load);
         rotating = rotating || spec.rotation;
+        point_loads = point_loads || !spec.point_loads.empty();
+        fracture = fracture || spec.fracture.enabled();
+      }
+      if (point_loads || fracture) {
+        forces_ = std::make_unique<ParticleForces>(solid_->particle_count(), point_loads, fracture);
+        for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+          if (scene.bodies[b].point_loads.empty()) continue;
+          const auto& body = solid_->body(static_cast<int>(b));
+          std::map<solid::Label, int> particle_of;  // validate_body_spec checked every label is one
+          for (int p = body.first; p < body.first + body.count; ++p) particle_of.emplace(solid_->label(p), p);
+          for (const auto& point : scene.bodies[b].point_loads)
+            forces_->add_point_load(particle_of.at(point.label), point.force);
+        }
       }
       if (fluid_) coupling_ = std::make_unique<CouplingState>(scene, solid_->particle_count(), rotating);
       if (rotating) torque_ = std::make_unique<TorqueRecord>(solid_->particle_count(), solid_->body_count());
@@ -57,14 +73,15 @@ class SimulationImpl final : public Simulation {
       }
     }
     // The step: only the stages the scene calls for, in MODEL.md's order (step_stage.h).
+    if (fracture) stages_.push_back(std::make_unique<FractureStage>(scene_, *solid_, *forces_, steps_, *pool_));
     if (coupling_)
       stages_.push_back(
           std::make_unique<ExchangeStage<L, T>>(scene_, locator_, *fluid_, *solid_, *coupling_, *pool_));
     if (fluid_) stages_.push_back(std::make_unique<FluidStage<L, T>>(*fluid_, coupling_.get(), *pool_));
     if (solid_)
       stages_.push_back(
-          make_solid_stage<L::D>(loads, walls_.any(), scene_, *solid_, coupling_.get(), walls_, torque_.get(),
-                                anchors_.get(), *pool_));
+          make_solid_stage<L::D>(loads || point_loads, walls_.any(), scene_, *solid_,
+                                 {coupling_.get(), torque_.get(), anchors_.get(), forces_.get()}, walls_, *pool_));
     if (rotating) stages_.push_back(std::make_unique<RotationStage>(scene_, *solid_, *pool_));  // after the solid's update
   }
 
@@ -106,7 +123,8 @@ class SimulationImpl final : public Simulation {
   std::size_t solid_bytes() const override {
     if (!solid_) return 0;
     return solid_->bytes_allocated() + (coupling_ ? coupling_->bytes_allocated() : 0) +
-           (torque_ ? torque_->bytes_allocated() : 0) + (anchors_ ? anchors_->bytes_allocated() : 0);
+           (torque_ ? torque_->bytes_allocated() : 0) + (anchors_ ? anchors_->bytes_allocated() : 0) +
+           (forces_ ? forces_->bytes_allocated() : 0);
   }
 
   std::vector<double> velocity_profile() const override {
@@ -139,6 +157,7 @@ class SimulationImpl final : public Simulation {
     }
     if (solid_) {
       t.solid_momentum = solid_->total_momentum();
+      t.shed_momentum = solid_->total_shed_momentum();
       t.solid_energy = solid_->total_energy();
     }
     return t;
@@ -217,6 +236,7 @@ class SimulationImpl final : public Simulation {
   std::unique_ptr<CouplingState> coupling_;  // with fluid and bodies
   std::unique_ptr<TorqueRecord> torque_;     // with a rotating body
   std::unique_ptr<AnchorRecord> anchors_;    // with an anchored particle
+  std::unique_ptr<ParticleForces> forces_;   // with point loads or a breaking body
   solid::ContactWalls walls_;
   std::vector<std::unique_ptr<StepStage>> stages_;
   long steps_ = 0;
@@ -264,6 +284,7 @@ Vec3 Simulation::particle_velocity(int p) const {
                             std::to_string(s->particle_count()) + ")");
   const Vec3 psi = s->momentum(p);
   const double m = s->mass(p);
+  if (m == 0) return {0, 0, 0};  // shed: it no longer moves
   return {psi[0] / m, psi[1] / m, psi[2] / m};
 }
 
@@ -273,12 +294,15 @@ double Simulation::body_slip(int body) const {
     throw std::out_of_range("body: no body " + std::to_string(body) + " in this scene");
   const auto& b = s->body(body);
   double sum = 0;
+  int counted = 0;
   for (int p = b.first; p < b.first + b.count; ++p) {
+    if (s->shed(p)) continue;  // no longer in the flow's exchange
+    ++counted;
     const Vec3 us = particle_velocity(p), uf = fluid_velocity_at_particle(p);
     const double diff = std::hypot(us[0] - uf[0], us[1] - uf[1], us[2] - uf[2]);
     sum += diff / std::hypot(us[0], us[1], us[2]);
   }
-  return sum / b.count;
+  return counted ? sum / counted : 0;
 }
 
 }  // namespace lbsolid::scene

@@ -6,6 +6,7 @@
 //   fluid     (a fluid)            collide + stream + walls, then each node's exchange (eq. 12)
 //   loads     (a body with a load) the applied force on every particle of that body
 //   contact   (bodies and walls)   the wall force on particles about to cross a wall
+//   fracture  (a breaking body)    links past their threshold break, first in the step
 //   solid     (bodies)             the LB wave update (eqs. 6-7) with all those forces
 // A stage that is absent has no storage and costs nothing. Observers are computed on request.
 #include <memory>
@@ -28,10 +29,12 @@ struct Totals {
   Vec3 fluid_momentum{0, 0, 0};      // sum over nodes of sum_i f_i c_i
   double fluid_kinetic_energy = 0;   // sum over nodes of rho |u|^2 / 2
   Vec3 solid_momentum{0, 0, 0};      // sum of Psi
+  Vec3 shed_momentum{0, 0, 0};       // what shed particles held (fracture: SolidSystem::shed)
   double solid_energy = 0;           // sum of E = sum_k |f_k|^2 (eq. 9)
   Vec3 momentum() const {
-    return {fluid_momentum[0] + solid_momentum[0], fluid_momentum[1] + solid_momentum[1],
-            fluid_momentum[2] + solid_momentum[2]};
+    Vec3 total;
+    for (int a = 0; a < 3; ++a) total[a] = fluid_momentum[a] + solid_momentum[a] + shed_momentum[a];
+    return total;
   }
 };
 

@@ -145,21 +145,36 @@ std::vector<std::string> validate_body_spec(const BodySpec& spec, int dimension,
     error("anchor_labels", "give either anchored (the whole body) or anchor_labels, not both");
   if ((spec.anchored || !spec.anchor_labels.empty()) && spec.rotation)
     error("rotation", "an anchored body cannot rotate (its springs' frame would turn about a fixed point)");
-  if (!spec.anchor_labels.empty() && errors.empty()) {
+  const auto nonnegative = [](double x) { return std::isfinite(x) && x >= 0; };
+  if (!nonnegative(spec.fracture.max_force)) error("fracture.max_force", "must be a finite number >= 0 (0: off)");
+  if (!nonnegative(spec.fracture.max_stretch)) error("fracture.max_stretch", "must be a finite number >= 0 (0: off)");
+  if (spec.fracture.enabled() && spec.rotation)
+    error("rotation", "a body that can break cannot rotate (its best-fit frame would span the broken pieces)");
+  for (const PointLoad& point : spec.point_loads) {
+    if (!finite(point.force)) error("point_loads.force", "must be finite");
+    else if (dimension == 2 && point.force[2] != 0) error("point_loads.force", "a 2D body has zero z components");
+  }
+  if ((!spec.anchor_labels.empty() || !spec.point_loads.empty()) && errors.empty()) {
     const std::vector<Label> labels = body_labels(spec, dimension);
     const std::set<Label> own(labels.begin(), labels.end());
-    std::set<Label> seen;
-    for (const Label& l : spec.anchor_labels) {
-      const std::string text = "(" + std::to_string(l[0]) + ", " + std::to_string(l[1]) + ", " + std::to_string(l[2]) + ")";
-      if (!own.count(l)) {
-        error("anchor_labels", "label " + text + " is not a particle of this body");
-        break;
+    // Each label of `field` must be one of the body's, and appear once.
+    const auto check_labels = [&](const char* field, const auto& items, const auto& label_of) {
+      std::set<Label> seen;
+      for (const auto& item : items) {
+        const Label& l = label_of(item);
+        const std::string text = "(" + std::to_string(l[0]) + ", " + std::to_string(l[1]) + ", " + std::to_string(l[2]) + ")";
+        if (!own.count(l)) {
+          error(field, "label " + text + " is not a particle of this body");
+          break;
+        }
+        if (!seen.insert(l).second) {
+          error(field, "label " + text + " appears twice");
+          break;
+        }
       }
-      if (!seen.insert(l).second) {
-        error("anchor_labels", "label " + text + " appears twice");
-        break;
-      }
-    }
+    };
+    check_labels("anchor_labels", spec.anchor_labels, [](const Label& l) -> const Label& { return l; });
+    check_labels("point_loads.label", spec.point_loads, [](const PointLoad& p) -> const Label& { return p.label; });
   }
   return errors;
 }

@@ -17,6 +17,24 @@ enum class BodyShape {
 
 const char* body_shape_name(BodyShape shape);
 
+// A force on one particle of a body, added to the body's uniform load: opposite loads at the two
+// ends of a chain, a row of a sheet pulled.
+struct PointLoad {
+  Label label;
+  Vec3 force{0, 0, 0};
+};
+
+// When a body's links break (issue 18, MODEL.md section 5). A link p -> q carries the force of a
+// vector spring of stiffness 1 stretched by its extension e = r_q - r_p - Delta0 (eq. 11 gives
+// e = f_opp(k)(p) - f_k(q) from the link's two vectors); it breaks when |e| exceeds max_force, or
+// when its stretch |r_q - r_p| / spacing - 1 exceeds max_stretch. A criterion at 0 is off; a body
+// breaks when either is on.
+struct FractureSpec {
+  double max_force = 0;
+  double max_stretch = 0;
+  bool enabled() const { return max_force > 0 || max_stretch > 0; }
+};
+
 struct BodySpec {
   std::string name;  // for output; defaults to "body<index>"
   BodyShape shape = BodyShape::kRectangle;
@@ -36,6 +54,8 @@ struct BodySpec {
   // whole body, or the particles of these labels (labels of the body's own shape).
   bool anchored = false;
   std::vector<Label> anchor_labels;
+  std::vector<PointLoad> point_loads;  // each added to `load` on its particle
+  FractureSpec fracture;
 };
 
 // Whether particle `label` of `spec` is anchored.

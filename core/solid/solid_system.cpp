@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include "solid/body_shape.h"
@@ -19,10 +20,8 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
                           bool rotates) {
   const int first = particle_count();
   const int n = static_cast<int>(labels.size());
-  std::map<Label, int> index;
-  for (int q = 0; q < n; ++q)
-    if (!index.emplace(labels[q], first + q).second)
-      throw std::invalid_argument("labels: a label appears twice in body '" + name + "'");
+  if (std::set<Label>(labels.begin(), labels.end()).size() != labels.size())
+    throw std::invalid_argument("labels: a label appears twice in body '" + name + "'");
   if (dim_ == 2 && (centre[2] != 0 || velocity[2] != 0 || load[2] != 0 || angular_velocity[0] != 0 ||
                     angular_velocity[1] != 0))
     throw std::invalid_argument("body '" + name + "': a 2D body has no z component of centre, velocity or load, "
@@ -45,12 +44,9 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
     labels_.push_back(l);
     positions_.insert(positions_.end(), positions[q].begin(), positions[q].begin() + dim_);
     mass_.push_back(masses[q]);
-    for (int k = 0; k < links_; ++k) {
-      const Label c = topology_.link(k);
-      const auto it = index.find({l[0] + c[0], l[1] + c[1], l[2] + c[2]});
-      neighbours_.push_back(it == index.end() ? -1 : it->second);
-    }
   }
+  neighbours_.resize(mass_.size() * links_);
+  place_links(body, neighbours_);
   if (!anchored_.empty()) anchored_.resize(mass_.size(), 0);  // a later body starts unanchored
   // A rigid motion: every existing incoming link carries velocity/2. Link k arrives from l - c_k,
   // which exists exactly when link opp(k) of l does.
@@ -70,6 +66,66 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
     if (dimension() == 2) bodies_[body].angle = best_fit_angle(body);
   }
   return body;
+}
+
+void SolidSystem::place_links(int b, std::vector<int>& neighbours) const {
+  const Body& body = bodies_[b];
+  std::map<Label, int> index;
+  for (int p = body.first; p < body.first + body.count; ++p) index.emplace(labels_[p], p);
+  for (int p = body.first; p < body.first + body.count; ++p) {
+    const Label& l = labels_[p];
+    for (int k = 0; k < links_; ++k) {
+      const Label c = topology_.link(k);
+      const auto it = index.find({l[0] + c[0], l[1] + c[1], l[2] + c[2]});
+      neighbours[static_cast<std::size_t>(p) * links_ + k] = it == index.end() ? -1 : it->second;
+    }
+  }
+}
+
+double SolidSystem::mass_from_links(const std::vector<int>& neighbours, int p) const {
+  int links = 0;
+  for (int k = 0; k < links_; ++k) links += neighbours[static_cast<std::size_t>(p) * links_ + k] >= 0;
+  return 0.5 * links;
+}
+
+RemovedVectors SolidSystem::break_link(int p, int k, long step) {
+  const int q = neighbour(p, k);
+  if (q < 0) throw std::logic_error("break_link: particle " + std::to_string(p) + " has no link " + std::to_string(k));
+  const int back = topology_.opposite(k);
+  RemovedVectors removed{q, incoming(p, back), incoming(q, k)};
+  const std::size_t slot_p = (static_cast<std::size_t>(p) * links_ + back) * dim_;
+  const std::size_t slot_q = (static_cast<std::size_t>(q) * links_ + k) * dim_;
+  std::fill_n(&incoming_[slot_p], dim_, 0.0);  // nothing arrives along a missing link again:
+  std::fill_n(&outgoing_[slot_p], dim_, 0.0);  // advance() writes only existing links' slots
+  std::fill_n(&incoming_[slot_q], dim_, 0.0);
+  std::fill_n(&outgoing_[slot_q], dim_, 0.0);
+  neighbours_[static_cast<std::size_t>(p) * links_ + k] = -1;
+  neighbours_[static_cast<std::size_t>(q) * links_ + back] = -1;
+  mass_[p] = mass_from_links(neighbours_, p);
+  mass_[q] = mass_from_links(neighbours_, q);
+  const auto resum = [&](int x) {
+    links_ == 6 ? update_momentum<6>(x, x + 1) : update_momentum<4>(x, x + 1);
+  };
+  resum(p);
+  resum(q);
+  const Vec3 rp = position(p), rq = position(q);
+  const int lower = k < dimension() ? p : q;  // recorded from its lower end
+  broken_.push_back({step, lower, k % dimension(), {(rp[0] + rq[0]) / 2, (rp[1] + rq[1]) / 2, (rp[2] + rq[2]) / 2}});
+  return removed;
+}
+
+void SolidSystem::shed(int p, const Vec3& momentum) {
+  if (mass_[p] != 0) throw std::logic_error("shed: particle " + std::to_string(p) + " still has a link");
+  if (shed_momentum_.empty()) shed_momentum_.assign(bodies_.size(), Vec3{0, 0, 0});
+  for (int a = 0; a < 3; ++a) shed_momentum_[body_index_[p]][a] += momentum[a];
+  any_shed_ = true;
+}
+
+Vec3 SolidSystem::total_shed_momentum() const {
+  Vec3 total{0, 0, 0};
+  for (const Vec3& m : shed_momentum_)
+    for (int a = 0; a < 3; ++a) total[a] += m[a];
+  return total;
 }
 
 Vec3 SolidSystem::rest_separation(int p, int k) const {
@@ -106,7 +162,8 @@ double SolidSystem::total_energy() const {
 std::size_t SolidSystem::bytes_allocated() const {
   return body_index_.capacity() * sizeof(int) + labels_.capacity() * sizeof(Label) +
          mass_.capacity() * sizeof(double) + neighbours_.capacity() * sizeof(int) + anchored_.capacity() +
-         (positions_.capacity() + incoming_.capacity() + outgoing_.capacity() + momentum_.capacity()) * sizeof(double);
+         (positions_.capacity() + incoming_.capacity() + outgoing_.capacity() + momentum_.capacity()) * sizeof(double) +
+         broken_.capacity() * sizeof(BrokenLink) + shed_momentum_.capacity() * sizeof(Vec3);
 }
 
 namespace {
@@ -133,7 +190,7 @@ std::vector<double> as_stored(const std::vector<Vec3>& v, int dimension, const c
 }  // namespace
 
 SolidState SolidSystem::state() const {
-  return {as_vec3(positions_, dim_), as_vec3(incoming_, dim_), as_vec3(momentum_, dim_)};
+  return {as_vec3(positions_, dim_), as_vec3(incoming_, dim_), as_vec3(momentum_, dim_), broken_, shed_momentum_};
 }
 
 void SolidSystem::restore(const SolidState& state) {
@@ -142,12 +199,46 @@ void SolidSystem::restore(const SolidState& state) {
     throw std::invalid_argument("solid state: holds " + std::to_string(state.positions.size()) + " particles and " +
                                 std::to_string(state.incoming.size()) + " link slots; this solid has " +
                                 std::to_string(n) + " and " + std::to_string(slots));
+  if (!state.shed_momentum.empty() && state.shed_momentum.size() != bodies_.size())
+    throw std::invalid_argument("solid state: shed momentum for " + std::to_string(state.shed_momentum.size()) +
+                                " bodies; this solid has " + std::to_string(bodies_.size()));
   auto positions = as_stored(state.positions, dim_, "a position");
   auto incoming = as_stored(state.incoming, dim_, "a link vector");
   auto momentum = as_stored(state.momentum, dim_, "a momentum");
+  as_stored(state.shed_momentum, dim_, "a shed momentum");  // only checked: kept as Vec3
+  // The links as placed, less the broken ones; every missing link's slot must be empty.
+  std::vector<int> neighbours(slots);
+  for (int b = 0; b < body_count(); ++b) place_links(b, neighbours);
+  for (std::size_t i = 0; i < state.broken.size(); ++i) {
+    const BrokenLink& link = state.broken[i];
+    const std::string which = "solid state: broken link " + std::to_string(i);
+    if (link.particle < 0 || static_cast<std::size_t>(link.particle) >= n || link.link < 0 || link.link >= dim_)
+      throw std::invalid_argument(which + " names no link of this solid");
+    if (link.step < 0) throw std::invalid_argument(which + " has a negative step");
+    int& forward = neighbours[static_cast<std::size_t>(link.particle) * links_ + link.link];
+    if (forward < 0) throw std::invalid_argument(which + " is not a link of this solid, or is broken twice");
+    neighbours[static_cast<std::size_t>(forward) * links_ + topology_.opposite(link.link)] = -1;
+    forward = -1;
+  }
+  for (std::size_t p = 0; p < n; ++p)
+    for (int k = 0; k < links_; ++k)
+      if (neighbours[p * links_ + topology_.opposite(k)] < 0)
+        for (int a = 0; a < dim_; ++a)
+          if (incoming[(p * links_ + k) * dim_ + a] != 0)
+            throw std::invalid_argument("solid state: particle " + std::to_string(p) + " receives along link " +
+                                        std::to_string(k) + ", which it does not have");
   positions_ = std::move(positions);
   incoming_ = std::move(incoming);
   momentum_ = std::move(momentum);
+  neighbours_ = std::move(neighbours);
+  std::fill(outgoing_.begin(), outgoing_.end(), 0.0);  // the next step writes every slot it reads
+  any_shed_ = false;
+  for (int p = 0; p < static_cast<int>(n); ++p) {
+    mass_[p] = mass_from_links(neighbours_, p);
+    any_shed_ = any_shed_ || mass_[p] == 0;
+  }
+  broken_ = state.broken;
+  shed_momentum_ = state.shed_momentum;
   for (int b = 0; b < body_count(); ++b)
     if (bodies_[b].rotates) {  // as the last step left it
       bodies_[b].frame = best_fit_rotation(b);

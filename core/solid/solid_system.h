@@ -42,12 +42,32 @@ struct Body {
   Vec3 rest_centroid{0, 0, 0};  // mass-weighted centroid of spacing * label
 };
 
+// A link that broke (fracture, issue 18): the link from `particle` along `link` (k < dimension, so
+// from its lower end), at the start of step `step` + 1, its two ends' midpoint then at `position`.
+struct BrokenLink {
+  long step = 0;
+  int particle = 0;
+  int link = 0;
+  Vec3 position{0, 0, 0};
+  bool operator==(const BrokenLink&) const = default;
+};
+
 // Everything a SolidSystem changes as it runs (the bodies themselves come from their specs):
 // restoring it into a system built from the same bodies continues the run bit for bit.
 struct SolidState {
   std::vector<Vec3> positions;  // r_p
   std::vector<Vec3> incoming;   // f_k(p) at [p * links + k]
   std::vector<Vec3> momentum;   // Psi_p
+  std::vector<BrokenLink> broken;  // in the order they broke
+  std::vector<Vec3> shed_momentum;  // per body: what its particles held when they lost their last link
+};
+
+// What breaking a link takes out of the two particles' momenta: the vector each had received
+// along it (MODEL.md section 5: handed back to its owner, so that momentum stays exact).
+struct RemovedVectors {
+  int neighbour = -1;      // q, the link's other end
+  Vec3 at_particle{0, 0, 0};   // f_opp(k)(p), taken from Psi_p
+  Vec3 at_neighbour{0, 0, 0};  // f_k(q), taken from Psi_q
 };
 
 class SolidSystem {
@@ -133,6 +153,18 @@ class SolidSystem {
   bool anchored(int p) const { return !anchored_.empty() && anchored_[p]; }
   bool any_anchored() const { return !anchored_.empty(); }
   const std::vector<char>& anchored_flags() const { return anchored_; }  // per particle; empty: none
+  // Fracture (issue 18, MODEL.md section 5). Removes the link from p along k: its two vectors
+  // leave both buffers (returned, for the caller to hand back as this step's impulses), both ends
+  // lose half a unit of mass (M = K/2) and their momenta are summed again from what they still
+  // receive. Records the break at `step` (the steps done).
+  RemovedVectors break_link(int p, int k, long step);
+  // Particle p lost its last link (M = 0): it leaves the dynamics where it is (no motion, no
+  // force, no exchange) and `momentum`, what it still held, is booked with its body.
+  void shed(int p, const Vec3& momentum);
+  bool shed(int p) const { return mass_[p] == 0; }
+  const std::vector<BrokenLink>& broken_links() const { return broken_; }
+  Vec3 shed_momentum(int b) const { return shed_momentum_.empty() ? Vec3{0, 0, 0} : shed_momentum_[b]; }
+  Vec3 total_shed_momentum() const;
   Vec3 total_momentum() const;
   double total_energy() const;
 
@@ -162,14 +194,21 @@ class SolidSystem {
   // constant.
   template <int Links>
   void update_momentum(int first, int end);
-  template <int Links, class Force>
+  template <int Links, bool kMayShed, class Force>
   void advance(const Force& force, int first, int end);
   template <class Range>
   void for_parts(parallel::ThreadPool* pool, int parts, const Range& range);
   // Turns body b's springs to its best-fit frame after a step (above; body_rotation.cpp).
   void co_rotate(int b);
   void set_spin(int b, const Vec3& velocity, const Vec3& angular_velocity);
+  // Body b's links as placed, from its labels, into `neighbours` ([p * links + k], -1 if missing).
+  void place_links(int b, std::vector<int>& neighbours) const;
+  // M = K/2 from the links p has now.
+  double mass_from_links(const std::vector<int>& neighbours, int p) const;
   bool any_rotates_ = false;
+  bool any_shed_ = false;  // some particle has M = 0 (a shed fragment)
+  std::vector<BrokenLink> broken_;
+  std::vector<Vec3> shed_momentum_;  // per body once a particle is shed, else empty
 };
 
 template <class Range>
@@ -183,7 +222,8 @@ template <class Force>
 void SolidSystem::stream(const Force& force, parallel::ThreadPool* pool, int parts) {
   const bool cubic = links_ == 6;
   for_parts(pool, parts, [&](int first, int end) {
-    cubic ? advance<6>(force, first, end) : advance<4>(force, first, end);
+    if (any_shed_) cubic ? advance<6, true>(force, first, end) : advance<4, true>(force, first, end);
+    else cubic ? advance<6, false>(force, first, end) : advance<4, false>(force, first, end);
   });
   incoming_.swap(outgoing_);
   for_parts(pool, parts, [&](int first, int end) {
@@ -192,10 +232,13 @@ void SolidSystem::stream(const Force& force, parallel::ThreadPool* pool, int par
 }
 
 // Eq. 7 and the wave rule for particles [first, end): positions, and the vectors each sends.
-template <int Links, class Force>
+// kMayShed: skip shed particles (M = 0: no link to send along, no motion, no force asked for).
+template <int Links, bool kMayShed, class Force>
 void SolidSystem::advance(const Force& force, int first, int end) {
   constexpr int D = Links / 2;
   for (int p = first; p < end; ++p) {
+    if constexpr (kMayShed)
+      if (mass_[p] == 0) continue;
     const Vec3 f = force(p);
     const double* psi = &momentum_[static_cast<std::size_t>(p) * D];
     const double inv_m = 1.0 / mass_[p];

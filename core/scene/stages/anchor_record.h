@@ -22,7 +22,7 @@ class AnchorRecord {
     solid::Vec3 sum{0, 0, 0};
     const auto& body = solid.body(b);
     for (int p = body.first; p < body.first + body.count; ++p)
-      if (solid.anchored(p))
+      if (solid.anchored(p) && !solid.shed(p))  // a shed anchor is no longer stepped
         for (int a = 0; a < 3; ++a) sum[a] += absorbed_[p][a];
     return sum;
   }

@@ -5,7 +5,8 @@
 // stage is built (make_solid_stage), so a scene runs no code for a force it lacks. With a torque
 // record (scenes with a rotating body), each particle's total force is recorded as well; with an
 // anchor record (scenes with anchors), an anchored particle gets the force that holds it, -2 Psi,
-// and the record what its anchor absorbed (anchor_record.h).
+// and the record what its anchor absorbed (anchor_record.h). With particle forces (point loads,
+// fracture impulses: particle_forces.h), each particle's are added to its body's load.
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,19 +15,28 @@
 #include "scene/scene.h"
 #include "scene/stages/anchor_record.h"
 #include "scene/stages/coupling_state.h"
+#include "scene/stages/particle_forces.h"
 #include "scene/stages/torque_record.h"
 #include "scene/step_stage.h"
 #include "solid/wall_contact.h"
 
 namespace lbsolid::scene {
 
-template <int D, bool kLoads, bool kExchange, bool kContact, bool kTorque, bool kAnchors>
+// The records a solid stage may write or read, null where the scene has none.
+struct SolidStageRecords {
+  const CouplingState* coupling = nullptr;  // the exchange's, with a fluid
+  TorqueRecord* torque = nullptr;           // with a rotating body
+  AnchorRecord* anchors = nullptr;          // with an anchor
+  const ParticleForces* forces = nullptr;   // with point loads or fracture
+};
+
+template <int D, bool kLoads, bool kExchange, bool kContact, bool kTorque, bool kAnchors, bool kParticleForces>
 class SolidStage final : public StepStage {
  public:
-  SolidStage(const Scene& scene, solid::SolidSystem& solid, const CouplingState* coupling,
-             const solid::ContactWalls& walls, TorqueRecord* torque, AnchorRecord* anchors, parallel::ThreadPool& pool)
-      : scene_(scene), solid_(solid), coupling_(coupling), walls_(walls), torque_(torque), anchors_(anchors),
-        pool_(pool) {}
+  SolidStage(const Scene& scene, solid::SolidSystem& solid, const SolidStageRecords& records,
+             const solid::ContactWalls& walls, parallel::ThreadPool& pool)
+      : scene_(scene), solid_(solid), coupling_(records.coupling), walls_(walls), torque_(records.torque),
+        anchors_(records.anchors), forces_(records.forces), pool_(pool) {}
 
   std::vector<std::string> names() const override {
     std::vector<std::string> n;
@@ -40,6 +50,7 @@ class SolidStage final : public StepStage {
     const solid::ParticleVectors momenta = solid_.momenta();
     const auto force = [&](int p) {
       solid::Vec3 f = kLoads ? solid_.body(solid_.body_of(p)).load : solid::Vec3{0, 0, 0};
+      if constexpr (kParticleForces) forces_->add_to(p, f);
       if constexpr (kAnchors) {
         if (solid_.anchored(p)) {  // held: the anchor takes whatever else acts on it
           if constexpr (kExchange) {
@@ -74,31 +85,38 @@ class SolidStage final : public StepStage {
   const solid::ContactWalls& walls_;
   TorqueRecord* torque_;
   AnchorRecord* anchors_;
+  const ParticleForces* forces_;
   parallel::ThreadPool& pool_;
 };
 
-// The solid stage for the forces present: loads, the exchange (`coupling` not null), contact;
-// recording the torques when `torque` is not null, holding the anchors when `anchors` is not null.
+// The solid stage for the forces present: loads, the exchange (records.coupling not null),
+// contact, particle forces (records.forces); recording the torques when records.torque is not null,
+// holding the anchors when records.anchors is not null.
 template <int D>
 std::unique_ptr<StepStage> make_solid_stage(bool loads, bool contact, const Scene& scene, solid::SolidSystem& solid,
-                                            const CouplingState* coupling, const solid::ContactWalls& walls,
-                                            TorqueRecord* torque, AnchorRecord* anchors, parallel::ThreadPool& pool) {
-  auto make = [&]<bool kLoads, bool kExchange, bool kContact>() -> std::unique_ptr<StepStage> {
-    if (torque)  // rotating bodies are never anchored (validate_body_spec)
-      return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, true, false>>(scene, solid, coupling, walls,
-                                                                                       torque, nullptr, pool);
-    if (anchors)
-      return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, false, true>>(scene, solid, coupling, walls,
-                                                                                       nullptr, anchors, pool);
-    return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, false, false>>(scene, solid, coupling, walls,
-                                                                                      nullptr, nullptr, pool);
+                                            const SolidStageRecords& records, const solid::ContactWalls& walls,
+                                            parallel::ThreadPool& pool) {
+  auto make = [&]<bool kLoads, bool kExchange, bool kContact, bool kForces>() -> std::unique_ptr<StepStage> {
+    if (records.torque)  // rotating bodies are never anchored (validate_body_spec)
+      return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, true, false, kForces>>(scene, solid, records,
+                                                                                                walls, pool);
+    if (records.anchors)
+      return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, false, true, kForces>>(scene, solid, records,
+                                                                                                walls, pool);
+    return std::make_unique<SolidStage<D, kLoads, kExchange, kContact, false, false, kForces>>(scene, solid, records,
+                                                                                               walls, pool);
+  };
+  auto with_forces = [&]<bool kLoads, bool kExchange, bool kContact>() {
+    return records.forces ? make.template operator()<kLoads, kExchange, kContact, true>()
+                          : make.template operator()<kLoads, kExchange, kContact, false>();
   };
   auto with_contact = [&]<bool kLoads, bool kExchange>() {
-    return contact ? make.template operator()<kLoads, kExchange, true>()
-                   : make.template operator()<kLoads, kExchange, false>();
+    return contact ? with_forces.template operator()<kLoads, kExchange, true>()
+                   : with_forces.template operator()<kLoads, kExchange, false>();
   };
   auto with_exchange = [&]<bool kLoads>() {
-    return coupling ? with_contact.template operator()<kLoads, true>() : with_contact.template operator()<kLoads, false>();
+    return records.coupling ? with_contact.template operator()<kLoads, true>()
+                            : with_contact.template operator()<kLoads, false>();
   };
   return loads ? with_exchange.template operator()<true>() : with_exchange.template operator()<false>();
 }
