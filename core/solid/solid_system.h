@@ -43,7 +43,8 @@ struct Body {
 };
 
 // A link that broke (fracture, issue 18): the link from `particle` along `link` (k < dimension, so
-// from its lower end), at the start of step `step` + 1, its two ends' midpoint then at `position`.
+// from its lower end), at the start of step `step` (counted from 1: the state after that step is
+// the first without it), its two ends' midpoint then at `position`.
 struct BrokenLink {
   long step = 0;
   int particle = 0;
@@ -156,7 +157,7 @@ class SolidSystem {
   // Fracture (issue 18, MODEL.md section 5). Removes the link from p along k: its two vectors
   // leave both buffers (returned, for the caller to hand back as this step's impulses), both ends
   // lose half a unit of mass (M = K/2) and their momenta are summed again from what they still
-  // receive. Records the break at `step` (the steps done).
+  // receive. Records the break at `step` (BrokenLink).
   RemovedVectors break_link(int p, int k, long step);
   // Particle p lost its last link (M = 0): it leaves the dynamics where it is (no motion, no
   // force, no exchange) and `momentum`, what it still held, is booked with its body.

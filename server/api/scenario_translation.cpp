@@ -296,6 +296,40 @@ void reject_other_shapes_fields(const v1::Body& in, const std::string& path, Pro
   reject_unless(in.labels_size() > 0, v1::BODY_SHAPE_LABELS, "labels");
 }
 
+void translate_point_loads(const v1::Body& in, const std::string& path, int dimension, solid::BodySpec& spec,
+                           Problems& problems) {
+  if (in.point_loads_size() > kMaxBodyParticles) {
+    problems.push_back({path + ".point_loads",
+                        std::to_string(in.point_loads_size()) + " loads, more than the limit of 2^24 per body"});
+    return;
+  }
+  for (int n = 0; n < in.point_loads_size(); ++n) {
+    const v1::PointLoad& point = in.point_loads(n);
+    if (!point.has_label()) {
+      problems.push_back({path + ".point_loads[" + std::to_string(n) + "].label", "required"});
+      continue;
+    }
+    const v1::Label& l = point.label();
+    spec.point_loads.push_back({{l.i(), l.j(), l.k()}, vec(point.force(), dimension)});
+  }
+}
+
+// Both thresholds optional, at least one set; each set one > 0 (0 would read as "off").
+void translate_fracture(const v1::Fracture& in, const std::string& path, solid::BodySpec& spec, Problems& problems) {
+  if (!in.has_max_force() && !in.has_max_stretch()) {
+    problems.push_back({path, "give max_force, max_stretch or both"});
+    return;
+  }
+  const auto threshold = [&](bool has, double value, const char* field, double& out) {
+    if (!has) return;
+    if (!(value > 0) || !std::isfinite(value))
+      problems.push_back({path + "." + field, "must be a positive number, got " + number(value)});
+    else out = value;
+  };
+  threshold(in.has_max_force(), in.max_force(), "max_force", spec.fracture.max_force);
+  threshold(in.has_max_stretch(), in.max_stretch(), "max_stretch", spec.fracture.max_stretch);
+}
+
 TranslatedBody translate_body(const v1::Body& in, int index, int dimension, Problems& problems) {
   const std::string path = "scenario.bodies[" + std::to_string(index) + "]";
   TranslatedBody out;
@@ -319,6 +353,8 @@ TranslatedBody translate_body(const v1::Body& in, int index, int dimension, Prob
       spec.anchor_labels.push_back({l.i(), l.j(), l.k()});
     }
   }
+  translate_point_loads(in, path, dimension, spec, problems);
+  if (in.has_fracture()) translate_fracture(in.fracture(), path + ".fracture", spec, problems);
   switch (in.shape()) {
     case v1::BODY_SHAPE_RECTANGLE:
       spec.shape = solid::BodyShape::kRectangle;

@@ -30,6 +30,9 @@ void append_particle_frame(storage::H5mdWriter& writer, const lbsolid::v1::Parti
                            array_of(body.angular_velocity()), body.orientation(), array_of(body.orientation_quaternion()),
                            array_of(body.torque()));
     writer.append_anchor_force(body.name(), frame.step(), array_of(body.anchor_force()));
+    writer.append_broken_link_count(body.name(), frame.step(), body.broken_link_count());
+    for (const auto& link : body.broken_links())
+      writer.append_broken_link(body.name(), link.step(), link.particle(), link.link(), array_of(link.position()));
   }
 }
 

@@ -61,15 +61,19 @@ long long particles_of(const v1::Body& body, int dimension) {
 // (scene/stages/anchor_record.h; counted whether or not a body is anchored: the estimate errs
 // high); exchange: cell 4, slot 4, a node record of 152 (at most one node per particle), the
 // pairwise rule's dP 24, and with rotating bodies each particle's node 12 and the momenta compared
-// at the nodes; with rotating bodies, the torque record's 48 (scene/stages/torque_record.h).
+// at the nodes; with rotating bodies, the torque record's 48 (scene/stages/torque_record.h); with
+// point loads or a breaking body, the particle forces' 2 x 24 and a touched index 4
+// (scene/stages/particle_forces.h), the fracture test's mask 1 and at most `dimension` broken
+// links of 40 (solid::BrokenLink) a particle.
 // Doubled: arrays grown by push_back or resize may hold up to twice their size.
-long long bytes_per_particle(int dimension, bool with_fluid, bool rotating) {
+long long bytes_per_particle(int dimension, bool with_fluid, bool rotating, bool particle_forces) {
   const int links = 2 * dimension;
   const int vector = 8 * dimension;
   const long long solid = 4 + 12 + vector + 8 + vector + links * (4 + 2 * vector) + 1 + 24;
   const long long exchange = with_fluid ? 4 + 4 + 152 + 24 + (rotating ? 12 + vector : 0) : 0;
   const long long torque = rotating ? 48 : 0;
-  return 2 * (solid + exchange + torque);
+  const long long forces = particle_forces ? 2 * 24 + 4 + 1 + dimension * 40 : 0;
+  return 2 * (solid + exchange + torque + forces);
 }
 
 // One population array (fluid/population_storage.h): the cells rounded up to 64 KiB, plus 17
@@ -114,7 +118,11 @@ Footprint estimate_footprint(const v1::Scenario& scenario) {
   const long long exchange_cells = f.particles > 0 ? saturating_sum(saturating_product(f.cells, 5), kBalanceBytes) : 0;
   const bool rotating = std::any_of(scenario.bodies().begin(), scenario.bodies().end(),
                                     [](const v1::Body& body) { return body.rotation(); });
-  const long long solid = saturating_product(f.particles, bytes_per_particle(dimension, with_fluid, rotating));
+  const bool particle_forces = std::any_of(scenario.bodies().begin(), scenario.bodies().end(), [](const v1::Body& body) {
+    return body.point_loads_size() > 0 || body.has_fracture();
+  });
+  const long long solid =
+      saturating_product(f.particles, bytes_per_particle(dimension, with_fluid, rotating, particle_forces));
   // Open x sides give the first and last cell of every row sources of their own (fluid/row_plan.h):
   // Q of them a cell.
   auto open = [](const v1::Side& side) {

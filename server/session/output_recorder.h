@@ -41,6 +41,7 @@ class OutputRecorder {
   const OutputPlan& plan() const { return plan_; }
   // What is due at `step` and not recorded yet (target_reached: the step ends a run).
   bool particles_due(long step) const { return due(plan_.particles_every, last_particles_, step); }
+  long last_particles_step() const { return last_particles_; }  // -1 before the first record
   bool profile_due(long step) const { return due(plan_.profile_every, last_profile_, step); }
   bool fields_due(long step, bool target_reached) const;
   bool anything_due(long step, bool target_reached) const {

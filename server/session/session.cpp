@@ -34,6 +34,30 @@ v1::Vector3 to_proto(const fluid::Vec3& v) {
   return out;
 }
 
+// Body b's broken links that broke after step `since`, and how many it has in all. The log is in
+// the order of breaking, so in step order.
+void add_broken_links(const solid::SolidSystem& solid, int b, long since, v1::BodyFrame& out) {
+  const auto& broken = solid.broken_links();
+  const auto& body = solid.body(b);
+  long count = 0;
+  for (const auto& link : broken) count += solid.body_of(link.particle) == b;
+  out.set_broken_link_count(count);
+  const auto first = std::partition_point(broken.begin(), broken.end(),
+                                          [since](const solid::BrokenLink& link) { return link.step <= since; });
+  for (auto it = first; it != broken.end(); ++it) {
+    if (solid.body_of(it->particle) != b) continue;
+    auto* link = out.add_broken_links();
+    link->set_step(it->step);
+    link->set_particle(it->particle - body.first);
+    const solid::Label l = solid.label(it->particle);
+    link->mutable_label()->set_i(l[0]);
+    link->mutable_label()->set_j(l[1]);
+    link->mutable_label()->set_k(l[2]);
+    link->set_link(it->link);
+    *link->mutable_position() = to_proto(it->position);
+  }
+}
+
 absl::Status wrong_state(const std::string& what, v1::SessionState state) {
   return absl::FailedPreconditionError(
       absl::StrCat(what, ": not allowed while the session is ", v1::SessionState_Name(state)));
@@ -275,7 +299,8 @@ bool Session::record_outputs() {
   const bool target_reached = step == target_;
   if (!recorder_->anything_due(step, target_reached)) return true;
   try {
-    if (recorder_->particles_due(step)) recorder_->record_particles(particle_frame(recorded_bodies_));
+    if (recorder_->particles_due(step))
+      recorder_->record_particles(particle_frame(recorded_bodies_, recorder_->last_particles_step()));
     if (recorder_->profile_due(step)) recorder_->record_profile(profile_frame());
     if (recorder_->fields_due(step, target_reached))
       recorder_->record_fields(step, sim_->fluid_fields(), {1.0, scene::lattice_row_spacing(sim_->scene().lattice), 1.0});
@@ -461,7 +486,7 @@ v1::ProfileFrame Session::profile_frame() const {
   return frame;
 }
 
-v1::ParticleFrame Session::particle_frame(const std::vector<int>& bodies) const {
+v1::ParticleFrame Session::particle_frame(const std::vector<int>& bodies, long since) const {
   v1::ParticleFrame frame;
   frame.set_step(sim_->step_count());
   const auto& solid = *sim_->solid();
@@ -495,6 +520,7 @@ v1::ParticleFrame Session::particle_frame(const std::vector<int>& bodies) const 
     quaternion->set_z(q[3]);
     *out->mutable_torque() = to_proto(state.torque);
     *out->mutable_anchor_force() = to_proto(state.anchor_force);
+    add_broken_links(solid, b, since, *out);
   }
   return frame;
 }
@@ -522,7 +548,9 @@ void Session::publish_frames_if(const Wanted& wanted) {
     const auto frame = profile_frame();  // computed once for every due client
     for (const auto& w : profiles) w->publish(frame);
   }
-  for (const auto& w : particles) w.channel->publish(particle_frame(w.bodies));
+  // A stream's first frame lists every break so far; the others those since the stream's last.
+  for (const auto& w : particles)
+    w.channel->publish(particle_frame(w.bodies, w.channel->first_frame_wanted() ? -1 : sim_->step_count() - w.channel->every()));
   std::lock_guard lock(mutex_);
   refresh_watch_flags_locked();
 }
@@ -627,7 +655,7 @@ absl::StatusOr<std::shared_ptr<FrameChannel<v1::ParticleFrame>>> Session::watch_
   auto channel = std::make_shared<FrameChannel<v1::ParticleFrame>>(delivery, every);
   if (join_running(channel, [&] { particle_watchers_.push_back({channel, bodies}); })) return channel;
   const auto sim_lock = lock_simulation();
-  channel->publish(particle_frame(bodies));
+  channel->publish(particle_frame(bodies, -1));
   std::lock_guard lock(mutex_);
   if (closed_ || is_final(state_) || state_ == v1::SESSION_STATE_DONE) {
     channel->close();

@@ -172,7 +172,8 @@ class Session {
   // Waits until every lossless watcher has room, or `timeout`; true if all have room.
   bool wait_for_lossless_clients(std::chrono::milliseconds timeout);
   v1::ProfileFrame profile_frame() const;
-  v1::ParticleFrame particle_frame(const std::vector<int>& bodies) const;
+  // The bodies' frame; each body's broken links listed are those that broke after step `since`.
+  v1::ParticleFrame particle_frame(const std::vector<int>& bodies, long since) const;
   void fail(long step, const std::string& cause);
   // Under the simulation lock: records what scenario.outputs wants at the current step. False if a
   // write failed: the session is then PAUSED with the cause (Resume records it again).

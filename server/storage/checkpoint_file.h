@@ -12,7 +12,7 @@ namespace lbsolid::server::storage {
 
 // 2: every dataset and the root carry a SHA-256 (1 had none and is no longer read).
 // 3: the root also names the session's owner (a version 2 file belongs to the local owner).
-inline constexpr int kCheckpointFormatVersion = 3;
+inline constexpr int kCheckpointFormatVersion = 4;
 
 struct CheckpointContents {
   std::string scenario_text;  // the lbsolid.v1.Scenario in protobuf text format

@@ -1,7 +1,9 @@
 #include "server/storage/checkpoint_layout.h"
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -15,6 +17,25 @@ namespace {
 constexpr const char* kFormatName = "lbsolid-checkpoint";
 
 using Vec3List = std::vector<solid::Vec3>;
+
+// Fracture (format 4), each present only when not empty: the broken links as rows of step,
+// particle, link, x, y, z (float64, so integers are exact up to 2^53), the shed momentum per body.
+constexpr const char* kBrokenLinks = "/solid/broken_links";
+constexpr const char* kShedMomentum = "/solid/shed_momentum";
+constexpr std::uint64_t kBrokenLinkColumns = 6;
+constexpr double kLargestExactInteger = 9007199254740992.0;  // 2^53
+
+std::vector<double> broken_link_rows(const std::vector<solid::BrokenLink>& broken) {
+  std::vector<double> rows;
+  rows.reserve(broken.size() * kBrokenLinkColumns);
+  for (const auto& link : broken) {
+    if (static_cast<double>(link.step) >= kLargestExactInteger)
+      throw std::runtime_error("a broken link's step " + std::to_string(link.step) + " is past 2^53");
+    rows.insert(rows.end(), {static_cast<double>(link.step), static_cast<double>(link.particle),
+                             static_cast<double>(link.link), link.position[0], link.position[1], link.position[2]});
+  }
+  return rows;
+}
 static_assert(sizeof(solid::Vec3) == 3 * sizeof(double), "Vec3 lists are written as [n][3] doubles");
 
 const double* data_of(const Vec3List& values) { return values.empty() ? nullptr : values[0].data(); }
@@ -34,6 +55,14 @@ DatasetChecksums checksums_of(const CheckpointContents& contents) {
          {std::pair{"/solid/positions", &state.solid.positions}, std::pair{"/solid/incoming", &state.solid.incoming},
           std::pair{"/solid/momentum", &state.solid.momentum}})
       sums[path] = values_checksum({list->size(), 3}, data_of(*list), 3 * list->size());
+    if (!state.solid.broken.empty()) {
+      const std::vector<double> rows = broken_link_rows(state.solid.broken);
+      sums[kBrokenLinks] = values_checksum({state.solid.broken.size(), kBrokenLinkColumns}, rows.data(), rows.size());
+    }
+    if (!state.solid.shed_momentum.empty()) {
+      const auto& shed = state.solid.shed_momentum;
+      sums[kShedMomentum] = values_checksum({shed.size(), 3}, data_of(shed), 3 * shed.size());
+    }
   }
   return sums;
 }
@@ -65,6 +94,12 @@ void write_solid(hid_t file, const solid::SolidState& solid, const DatasetChecks
   write_vec3_list(file, "/solid/positions", solid.positions, sums);
   write_vec3_list(file, "/solid/incoming", solid.incoming, sums);
   write_vec3_list(file, "/solid/momentum", solid.momentum, sums);
+  if (!solid.broken.empty()) {
+    const std::vector<double> rows = broken_link_rows(solid.broken);
+    h5::write_dataset<double>(file, kBrokenLinks, {solid.broken.size(), kBrokenLinkColumns}, rows.data());
+    attach_checksum(file, kBrokenLinks, sums);
+  }
+  if (!solid.shed_momentum.empty()) write_vec3_list(file, kShedMomentum, solid.shed_momentum, sums);
 }
 
 // --- reading ----------------------------------------------------------------------------------
@@ -74,8 +109,9 @@ int check_format(hid_t root) {
   if (H5Aexists(root, "format") <= 0 || h5::read_string_attribute(root, "format") != kFormatName)
     throw std::runtime_error(std::string("not an lbsolid checkpoint (no format attribute \"") + kFormatName + "\")");
   const int version = h5::read_attribute<int>(root, "format_version");
-  const std::string reads = " (this build reads version " + std::to_string(kCheckpointFormatVersion) + " and the older version 2)";
-  if (version == kCheckpointFormatVersion || version == 2) return version;
+  const std::string reads =
+      " (this build reads version " + std::to_string(kCheckpointFormatVersion) + " and the older versions 2 and 3)";
+  if (version >= 2 && version <= kCheckpointFormatVersion) return version;
   if (version > kCheckpointFormatVersion)
     throw std::runtime_error("checkpoint format version " + std::to_string(version) +
                              " is newer than this build reads" + reads);
@@ -147,11 +183,40 @@ fluid::FluidRawState read_fluid(hid_t file, hsize_t max_values, DatasetChecksums
   return fluid;
 }
 
-solid::SolidState read_solid(hid_t file, hsize_t max_values, DatasetChecksums& sums) {
+// An integer column of a broken link's row, or a throw naming it.
+long integer_in(double value, std::size_t row, const char* column) {
+  if (!(value >= 0 && value < kLargestExactInteger) || value != std::floor(value))
+    throw std::runtime_error(std::string("dataset ") + kBrokenLinks + " row " + std::to_string(row) + ": " + column +
+                             " " + std::to_string(value) + " is not a non-negative integer");
+  return static_cast<long>(value);
+}
+
+std::vector<solid::BrokenLink> read_broken_links(hid_t file, hsize_t max_values, DatasetChecksums& sums) {
+  const h5::DatasetValues<double> data = read_verified(file, kBrokenLinks, max_values, sums);
+  if (data.dims.size() != 2 || data.dims[1] != kBrokenLinkColumns)
+    throw std::runtime_error(std::string("dataset ") + kBrokenLinks + " is not an [n][6] array");
+  std::vector<solid::BrokenLink> broken(data.dims[0]);
+  for (std::size_t i = 0; i < broken.size(); ++i) {
+    const double* row = &data.values[i * kBrokenLinkColumns];
+    const long particle = integer_in(row[1], i, "particle"), link = integer_in(row[2], i, "link");
+    if (particle > std::numeric_limits<int>::max() || link > 2)
+      throw std::runtime_error(std::string("dataset ") + kBrokenLinks + " row " + std::to_string(i) +
+                               ": no such particle or link");
+    broken[i] = {integer_in(row[0], i, "step"), static_cast<int>(particle), static_cast<int>(link),
+                 {row[3], row[4], row[5]}};
+  }
+  return broken;
+}
+
+solid::SolidState read_solid(hid_t file, int version, hsize_t max_values, DatasetChecksums& sums) {
   solid::SolidState solid;
   solid.positions = read_vec3_list(file, "/solid/positions", max_values, sums);
   solid.incoming = read_vec3_list(file, "/solid/incoming", max_values, sums);
   solid.momentum = read_vec3_list(file, "/solid/momentum", max_values, sums);
+  if (version >= 4) {
+    if (h5::has_link(file, kBrokenLinks)) solid.broken = read_broken_links(file, max_values, sums);
+    if (h5::has_link(file, kShedMomentum)) solid.shed_momentum = read_vec3_list(file, kShedMomentum, max_values, sums);
+  }
   return solid;
 }
 
@@ -223,7 +288,7 @@ CheckpointContents read_checkpoint_layout(const std::string& file_path) {
   contents.state.has_fluid = h5::has_link(root, "fluid");
   if (contents.state.has_fluid) contents.state.fluid = read_fluid(root, max_values, sums);
   contents.state.has_solid = h5::has_link(root, "solid");
-  if (contents.state.has_solid) contents.state.solid = read_solid(root, max_values, sums);
+  if (contents.state.has_solid) contents.state.solid = read_solid(root, version, max_values, sums);
   if (root_checksum(version, writer, contents, sums) !=
       h5::read_string_attribute(root, kChecksumAttribute))
     throw std::runtime_error(

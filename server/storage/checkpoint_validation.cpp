@@ -65,6 +65,11 @@ void check_solid(const solid::SolidState& solid) {
   check_finite("/solid/positions", solid.positions);
   check_finite("/solid/incoming", solid.incoming);
   check_finite("/solid/momentum", solid.momentum);
+  check_finite("/solid/shed_momentum", solid.shed_momentum);
+  for (const auto& link : solid.broken)
+    if (link.particle >= static_cast<long>(n) || link.link < 0 || link.step < 0)
+      refuse("dataset /solid/broken_links", "names a link this solid does not have");
+    else check_finite("/solid/broken_links", link.position.data(), 3);
 }
 
 }  // namespace

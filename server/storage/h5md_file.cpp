@@ -265,6 +265,21 @@ void H5mdWriter::append_anchor_force(const std::string& body, long step, const s
   h5::with_context(impl_->context(), [&] { impl_->append("/observables/" + body + "/anchor_force", {3}, step, force.data()); });
 }
 
+void H5mdWriter::append_broken_link_count(const std::string& body, long step, long count) {
+  impl_->check_open();
+  check_body_name(body);
+  const double value = static_cast<double>(count);
+  h5::with_context(impl_->context(), [&] { impl_->append("/observables/" + body + "/broken_link_count", {1}, step, &value); });
+}
+
+void H5mdWriter::append_broken_link(const std::string& body, long step, int particle, int link,
+                                    const std::array<double, 3>& position) {
+  impl_->check_open();
+  check_body_name(body);
+  const double row[5] = {static_cast<double>(particle), static_cast<double>(link), position[0], position[1], position[2]};
+  h5::with_context(impl_->context(), [&] { impl_->append("/observables/" + body + "/broken_links", {5}, step, row); });
+}
+
 void H5mdWriter::append_profile(long step, const std::vector<double>& y, const std::vector<double>& u_x) {
   impl_->check_open();
   if (y.empty() || y.size() != u_x.size())

@@ -6,6 +6,9 @@
 //   /particles/<body>/velocity/{step, time, value [frame][particle][dimension]}
 //   /observables/<body>/centre_of_mass/{step, time, value [frame][dimension]}
 //   /observables/<body>/velocity/{step, time, value [frame][dimension]}     (mass-weighted mean)
+//   /observables/<body>/broken_link_count/{step, time, value [frame][1]}
+//   /observables/<body>/broken_links/{step, time, value [break][5]}  (once a link broke: one entry
+//                               per break at the step that broke it: particle, link, x, y, z)
 //   /observables/velocity_profile/{step, time, value [frame][ny]}; /observables/velocity_profile_y [ny]
 //   /parameters                 attr scenario (protobuf text of the lbsolid.v1.Scenario)
 // step and time are per-series datasets (time = step: lattice time). Series grow by one frame per
@@ -49,6 +52,12 @@ class H5mdWriter {
                        const std::array<double, 4>& orientation_quaternion, const std::array<double, 3>& torque);
   // What the body's anchors absorbed in the step (zero for a body without anchors).
   void append_anchor_force(const std::string& body, long step, const std::array<double, 3>& force);
+  // How many of the body's links are broken (zero for a body that cannot break).
+  void append_broken_link_count(const std::string& body, long step, long count);
+  // One broken link, at the step that broke it: its lower end (an index among the body's
+  // particles), the link from there (0 +x, 1 +y, 2 +z) and the midpoint of its ends then.
+  void append_broken_link(const std::string& body, long step, int particle, int link,
+                          const std::array<double, 3>& position);
   void append_profile(long step, const std::vector<double>& y, const std::vector<double>& u_x);
   void flush();
   void close();  // flushes, closes and renames its .partial-<pid>-<n> file to <path>

@@ -55,7 +55,8 @@ TEST(ChainPulledApart, JustAboveHalfTheThresholdTheMiddleLinkBreaksWhenTheFronts
   ASSERT_EQ(broken.size(), 1u);
   EXPECT_EQ(broken[0].particle, kChain / 2 - 1);
   EXPECT_EQ(broken[0].link, 0);  // +x
-  EXPECT_EQ(broken[0].step, kChain / 2);  // the fronts, one link a step, meet after N/2 steps
+  // The fronts, one link a step, meet after N/2 steps; the next step's test finds the link past T.
+  EXPECT_EQ(broken[0].step, kChain / 2 + 1);
   EXPECT_DOUBLE_EQ(broken[0].position[0], 4.0 * kChain);  // the chain's middle
 }
 
@@ -71,13 +72,13 @@ TEST(ChainPulledApart, AboveTheThresholdTheFrontsBreakEveryLinkAndShedEveryParti
   const auto& solid = *sim->solid();
   const auto& broken = solid.broken_links();
   ASSERT_EQ(broken.size(), static_cast<std::size_t>(kChain - 1));
-  // The end links first (at step 1, the first step that sees a stretched link), then one link a
+  // The end links first (in step 2, the first that starts with a stretched link), then one link a
   // step from each end inwards.
   for (std::size_t i = 0; i < broken.size(); ++i) {
     const int from_end = static_cast<int>(i) / 2;
     const int expected = i % 2 == 0 ? from_end : kChain - 2 - from_end;
     EXPECT_EQ(broken[i].particle, expected) << "break " << i;
-    EXPECT_EQ(broken[i].step, from_end + 1) << "break " << i;
+    EXPECT_EQ(broken[i].step, from_end + 2) << "break " << i;
   }
   for (int p = 0; p < kChain; ++p) EXPECT_TRUE(solid.shed(p)) << "particle " << p;
   // Every particle shed with what it held: all the momentum is booked there; the loads on the

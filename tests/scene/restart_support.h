@@ -56,6 +56,8 @@ inline void expect_same_state(const SimulationState& a, const SimulationState& b
   EXPECT_TRUE(same_bytes(a.solid.positions, b.solid.positions));
   EXPECT_TRUE(same_bytes(a.solid.incoming, b.solid.incoming));
   EXPECT_TRUE(same_bytes(a.solid.momentum, b.solid.momentum));
+  EXPECT_EQ(a.solid.broken, b.solid.broken);  // BrokenLink's == compares every field exactly
+  EXPECT_TRUE(same_bytes(a.solid.shed_momentum, b.solid.shed_momentum));
 }
 
 }  // namespace lbsolid::scene::testing

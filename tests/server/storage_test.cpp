@@ -155,6 +155,31 @@ TEST(CheckpointFile, SolidOnlyRunContinuesBitForBit) {
   EXPECT_TRUE(read.state.has_solid);
 }
 
+// A chain torn by its loads: links break and particles are shed before the checkpoint (step 25);
+// the broken links and the shed momentum go through the file exactly, and the pieces move on as
+// they would have (a crack's links breaking across a restore: tests/physics/fracture_test.cpp).
+TEST(CheckpointFile, BrokenLinksAndShedParticlesContinueBitForBit) {
+  scene::Scene s;
+  s.with_fluid = false;
+  s.fluid.nx = s.fluid.ny = 128;
+  s.contact.enabled = false;
+  solid::BodySpec chain;
+  chain.shape = solid::BodyShape::kChain;
+  chain.length = 16;
+  chain.centre = {64, 64, 0};
+  chain.velocity = {0.003, -0.001, 0};
+  chain.load = {2e-4, 1e-4, 0};
+  chain.point_loads = {{{0, 0, 0}, {-1.5e-3, 0.7e-3, 0}}, {{15, 0, 0}, {1.2e-3, 0, 0}}};
+  chain.fracture.max_force = 1e-3;
+  s.bodies.push_back(chain);
+  expect_restart_through_file_is_exact(s);
+  auto simulation = scene::build_simulation(s);
+  simulation->run(25);
+  const auto state = simulation->save_state();
+  ASSERT_GE(state.solid.broken.size(), 2u) << "the test needs breaks before the checkpoint";
+  ASSERT_FALSE(state.solid.shed_momentum.empty()) << "and a shed particle";
+}
+
 TEST(CheckpointFile, RootAttributesDescribeTheWriter) {
   TempDir dir;
   auto simulation = scene::build_simulation(coupled_scene(LatticeKind::kD2Q9, Precision::kDouble));

@@ -65,7 +65,7 @@ class FractureStage final : public StepStage {
   }
 
   void break_link(int p, int k) {
-    const solid::RemovedVectors removed = solid_.break_link(p, k, steps_);
+    const solid::RemovedVectors removed = solid_.break_link(p, k, steps_ + 1);  // the step now running
     forces_.add_impulse(p, removed.at_particle);
     forces_.add_impulse(removed.neighbour, removed.at_neighbour);
     for (int end : {p, removed.neighbour})
