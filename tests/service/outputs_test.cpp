@@ -119,6 +119,41 @@ TEST(Outputs, TheDaemonRecordsWhatTheScenarioDeclares) {
   EXPECT_EQ(restored.step(), 50);
 }
 
+// A chain pulled apart by +-0.51 T at its ends (tests/physics/fracture_test.cpp): its middle
+// link breaks in step 11. The recorded particles.h5 lists that break as the core does, bit for
+// bit, and counts the body's broken links in every frame.
+TEST(Outputs, ABreakingBodysBrokenLinksAreRecorded) {
+  const ScopedDirectory dir("lbsolid-outputs");
+  DaemonProcess daemon(dir.path + "/data");
+  auto stub = daemon.stub();
+  v1::Scenario scenario;
+  std::string error;
+  ASSERT_TRUE(server::parse_scenario_text(
+      "domain { nx: 160 ny: 160 } fluid { enabled: false } contact { enabled: false } "
+      "outputs { particles_every: 1 } "
+      "bodies { name: \"chain\" shape: BODY_SHAPE_CHAIN length: 20 centre { x: 80 y: 80 } "
+      "  point_loads { label { i: 0 } force { x: -0.00051 } } point_loads { label { i: 19 } force { x: 0.00051 } } "
+      "  fracture { max_force: 0.001 } }",
+      &scenario, &error))
+      << error;
+  const std::string id = run_to_done(*stub, scenario, 20);
+  const std::string particles = dir.path + "/particles.h5";
+  download_whole(*stub, id, "particles.h5", particles);
+
+  auto simulation = scene::build_simulation(server::translate_scenario(scenario).scene);
+  simulation->run(20);
+  const auto& expected = simulation->solid()->broken_links();
+  ASSERT_EQ(expected.size(), 1u);
+  const auto broken = storage::read_h5md_series(particles, "/observables/chain/broken_links");
+  ASSERT_EQ(broken.step, (std::vector<long>{expected[0].step}));
+  EXPECT_EQ(broken.value, (std::vector<double>{static_cast<double>(expected[0].particle), 0, expected[0].position[0],
+                                                expected[0].position[1], expected[0].position[2]}));
+  const auto count = storage::read_h5md_series(particles, "/observables/chain/broken_link_count");
+  ASSERT_EQ(count.value.size(), 21u);  // steps 0 to 20
+  for (long step = 0; step <= 20; ++step)
+    EXPECT_EQ(count.value[step], step >= expected[0].step ? 1 : 0) << "step " << step;
+}
+
 TEST(Outputs, ADownloadResumesFromAnOffsetAndRefusesAnotherVersion) {
   const ScopedDirectory dir("lbsolid-outputs");
   DaemonProcess daemon(dir.path + "/data");
