@@ -87,6 +87,10 @@ class Body:
     orientation_quaternion: np.ndarray = None  # (4,) w, x, y, z: the same turn, 2D and 3D, w >= 0
     torque: np.ndarray = None  # (3,) in the last step, about the centre of mass (scenes with a rotating body)
     anchor_force: np.ndarray = None  # (3,) absorbed by the body's anchors in the last step (drag, lift)
+    broken_link_count: int = 0       # a breaking body: its links broken so far
+    # the links that broke since the stream's previous frame (all so far in its first), one row each:
+    # step, particle (its lower end, an index in the body), link (0 +x, 1 +y, 2 +z), x, y, z
+    broken_links: np.ndarray = None  # (breaks, 6)
 
 
 @dataclass
@@ -139,7 +143,9 @@ def particles_from_proto(frame) -> Particles:
                               _vector(b.angular_momentum), _vector(b.angular_velocity), b.orientation,
                               np.array([b.orientation_quaternion.w, b.orientation_quaternion.x,
                                         b.orientation_quaternion.y, b.orientation_quaternion.z], dtype=np.float64),
-                              _vector(b.torque), _vector(b.anchor_force))
+                              _vector(b.torque), _vector(b.anchor_force), b.broken_link_count,
+                              np.array([[l.step, l.particle, l.link, l.position.x, l.position.y, l.position.z]
+                                        for l in b.broken_links], dtype=np.float64).reshape(-1, 6))
     return Particles(frame.step, bodies)
 
 
