@@ -12,6 +12,8 @@
 // 2. A chain hitting a wall (contact, e = 1) at speed v: the front particle stops, and each step
 //    the compression front stops one more particle (M = 1) moving at v, so the link behind the
 //    front carries a force v: it breaks for v > T and not below.
+//    The stretch criterion (|r_q - r_p| / spacing - 1) reads the same extension over the spacing,
+//    and never breaks a link in compression.
 // 3. A notched sheet pulled apart breaks from the notch's tip, across to the other edge, at a load
 //    the same sheet without a notch carries.
 // 4. Breaking keeps linear momentum exact (each removed vector goes back to its own particle as an
@@ -87,6 +89,30 @@ TEST(ChainPulledApart, AboveTheThresholdTheFrontsBreakEveryLinkAndShedEveryParti
   EXPECT_EQ(solid.total_momentum()[0], 0.0);  // nothing is left stepped
 }
 
+// The stretch criterion: the middle link's extension 2F (stiffness 1) over the spacing s. At s = 2
+// it breaks past F = max_stretch, not below; the force criterion's prediction (2F > T) would say
+// otherwise, so the spacing is really divided out.
+TEST(ChainPulledApart, AStretchThresholdReadsTheExtensionPerSpacing) {
+  constexpr double kStretch = 1e-3;
+  for (const double ratio : {0.98, 1.02}) {
+    Scene s = pulled_chain(kChain, ratio * kStretch, 0);
+    s.fluid.nx = s.fluid.ny = 16 * kChain;
+    s.bodies[0].spacing = 2;
+    s.bodies[0].centre = {8.0 * kChain, 8.0 * kChain, 0};
+    s.bodies[0].fracture.max_stretch = kStretch;
+    auto sim = build_simulation(s);
+    sim->run(4000);
+    const auto& broken = sim->solid()->broken_links();
+    if (ratio < 1) {
+      EXPECT_TRUE(broken.empty()) << "F / max_stretch = " << ratio;
+    } else {
+      ASSERT_EQ(broken.size(), 1u) << "F / max_stretch = " << ratio;
+      EXPECT_EQ(broken[0].particle, kChain / 2 - 1);
+      EXPECT_EQ(broken[0].step, kChain / 2 + 1);
+    }
+  }
+}
+
 // A chain moving at -v along x toward the x_low wall, with contact.
 Scene chain_hitting_a_wall(int n, double speed, double threshold) {
   Scene s;
@@ -122,6 +148,17 @@ TEST(ChainHittingAWall, BreaksJustAboveTheImpactSpeedThatMatchesTheThresholdAndN
       EXPECT_EQ(broken[0].particle, 0) << "the link behind the front particle breaks first";
     }
   }
+}
+
+// Stretch only breaks in tension: a chain hitting a wall at 20 times its stretch threshold (as a
+// speed) is compressed, and rebounds whole, never stretched (measured: 2.2e-14 at most, round-off).
+TEST(ChainHittingAWall, AStretchThresholdDoesNotBreakItInCompression) {
+  Scene s = chain_hitting_a_wall(10, 0.02, 0);
+  s.bodies[0].fracture.max_stretch = 1e-3;
+  auto sim = build_simulation(s);
+  sim->run(600);
+  EXPECT_TRUE(sim->solid()->broken_links().empty());
+  EXPECT_NEAR(sim->body_state(0).velocity[0], 0.02, 1e-12) << "it bounced back whole, elastically";
 }
 
 // A w x h sheet pulled along x by +-F on every particle of its left and right columns, with a
