@@ -15,7 +15,8 @@ from pathlib import Path
 from figure_common import connect, failed_checks, parse_args, print_rows, write_csv
 
 FIGURES = ["fig1_bouncing_sheet", "fig4_slip", "fig5_drag", "fig6_chains", "fig7_relaxation", "fig8_rotating_chains",
-           "rotation_validation", "seaweed", "fracture", "schafer_turek"]
+           "rotation_validation", "seaweed", "seaweed_flapping", "fracture",
+           "schafer_turek"]
 
 
 def write_markdown(path: Path, rows, quick: bool, seconds: dict):
