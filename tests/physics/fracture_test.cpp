@@ -89,6 +89,26 @@ TEST(ChainPulledApart, AboveTheThresholdTheFrontsBreakEveryLinkAndShedEveryParti
   EXPECT_EQ(solid.total_momentum()[0], 0.0);  // nothing is left stepped
 }
 
+// The same in 3D (cubic topology, six links), along z: the link from particle 9 along +z (link 2).
+TEST(ChainPulledApart, InThreeDimensionsAlongZTheMiddleLinkBreaksAlike) {
+  Scene s = pulled_chain(kChain, 0.51 * kThreshold, kThreshold);
+  s.lattice = LatticeKind::kD3Q19;
+  s.fluid.nz = 8 * kChain;
+  auto& chain = s.bodies[0];
+  chain.axis = 2;
+  chain.centre = {4.0 * kChain, 4.0 * kChain, 4.0 * kChain};
+  chain.point_loads = {{{0, 0, 0}, {0, 0, -0.51 * kThreshold}}, {{0, 0, kChain - 1}, {0, 0, 0.51 * kThreshold}}};
+  auto sim = build_simulation(s);
+  sim->run(400);
+  const auto& broken = sim->solid()->broken_links();
+  ASSERT_EQ(broken.size(), 1u);
+  EXPECT_EQ(broken[0].particle, kChain / 2 - 1);
+  EXPECT_EQ(broken[0].link, 2);  // +z
+  EXPECT_EQ(broken[0].step, kChain / 2 + 1);
+  EXPECT_DOUBLE_EQ(broken[0].position[2], 4.0 * kChain);
+  EXPECT_EQ(sim->solid()->mass(kChain / 2 - 1), 0.5);  // an end now: one link
+}
+
 // The stretch criterion: the middle link's extension 2F (stiffness 1) over the spacing s. At s = 2
 // it breaks past F = max_stretch, not below; the force criterion's prediction (2F > T) would say
 // otherwise, so the spacing is really divided out.
