@@ -187,6 +187,34 @@ class PythonClientMatchesCore(unittest.TestCase):
             self.assertEqual(hashlib.sha256(copy.read_bytes()).hexdigest(), listed["particles.h5"].sha256)
             self.assertEqual([p.name for p in Path(tmp).iterdir()], ["particles.h5"])  # no part file left
 
+    def test_a_breaking_bodys_links_read_back_from_a_done_session_as_streamed(self):
+        # A chain of 20 pulled by +-1.01 T at its ends breaks link by link from both ends in steps
+        # 2 to 11 (tests/physics/fracture_test.cpp). Frames every 3 steps: each lists the breaks
+        # since the previous one, streamed and read back from particles.h5 alike.
+        from google.protobuf import text_format
+        from lbsolid_client import scenario_pb2
+        scenario = text_format.Parse("""
+            name: "torn chain" lattice: LATTICE_D2Q9
+            domain { nx: 160 ny: 160 } fluid { enabled: false } contact { enabled: false }
+            outputs { particles_every: 3 }
+            bodies { name: "chain" shape: BODY_SHAPE_CHAIN length: 20 centre { x: 80 y: 80 }
+                     point_loads { label { i: 0 } force { x: -0.00101 } }
+                     point_loads { label { i: 19 } force { x: 0.00101 } }
+                     fracture { max_force: 0.001 } }""", scenario_pb2.Scenario())
+        streamed = self.client.create(scenario).run_and_record(15, particles_every=3, progress=False)
+        done = self.client.create(scenario)
+        done.run(15)
+        done.wait(progress=False)
+        read_back = done.run_and_record(15, particles_every=3, progress=False)
+        self.assertEqual([f.step for f in read_back.particles], [f.step for f in streamed.particles])
+        for got, want in zip(read_back.particles, streamed.particles):
+            a, b = got.bodies["chain"], want.bodies["chain"]
+            self.assertEqual(a.broken_link_count, b.broken_link_count, f"step {got.step}")
+            self.assertTrue(bit_equal(a.broken_links, b.broken_links), f"step {got.step}")
+        last = streamed.particles[-1].bodies["chain"]
+        self.assertEqual(last.broken_link_count, 19)
+        self.assertEqual(sum(len(f.bodies["chain"].broken_links) for f in streamed.particles), 19)
+
     def test_an_anchored_disk_reports_the_force_that_holds_it(self):
         # A periodic D2Q9 box driven by g per node around an anchored disk: at steady state the
         # anchors hold the whole drive, g x 1200 nodes (the core test AnchoredDisk measures it

@@ -1,5 +1,5 @@
 """Frames read back from a particles.h5 the daemon recorded (H5MD, server/storage/h5md_file.h):
-the velocity profile series and each body's particles, mean motion and rotation."""
+the velocity profile series and each body's particles, mean motion, rotation and broken links."""
 import h5py
 import numpy as np
 
@@ -40,10 +40,18 @@ def recording_from_h5md(path, session, profiles_every=0, particles_every=0, bodi
                                  "torque", "anchor_force"):
                     if f"observables/{name}/{quantity}" in f:
                         rotation[quantity] = _series(f[f"observables/{name}/{quantity}"])[1]
+                counts = breaks = None  # files from before fracture have neither; unbroken bodies no breaks
+                if f"observables/{name}/broken_link_count" in f:
+                    counts = _series(f[f"observables/{name}/broken_link_count"])[1]
+                    break_steps, rows = (_series(f[f"observables/{name}/broken_links"])
+                                         if f"observables/{name}/broken_links" in f else
+                                         (np.zeros(0, dtype=np.int64), np.zeros((0, 5))))
+                    breaks = np.column_stack([break_steps, rows]).reshape(-1, 6)
+                previous = -1  # as a stream gives them: the breaks since its previous frame
                 for k, step in enumerate(steps):
                     if step % particles_every:
                         continue
-                    frames.setdefault(int(step), {})[name] = Body(
+                    body = frames.setdefault(int(step), {})[name] = Body(
                         name, _xyz(positions[k], dimension), _xyz(velocities[k], dimension),
                         _xyz(centres[k], dimension), _xyz(means[k], dimension), float("nan"), float("nan"),
                         rotation["angular_momentum"][k] if "angular_momentum" in rotation else None,
@@ -52,5 +60,9 @@ def recording_from_h5md(path, session, profiles_every=0, particles_every=0, bodi
                         rotation["orientation_quaternion"][k] if "orientation_quaternion" in rotation else None,
                         rotation["torque"][k] if "torque" in rotation else None,
                         rotation["anchor_force"][k] if "anchor_force" in rotation else None)
+                    if counts is not None:
+                        body.broken_link_count = int(counts[k][0])
+                        body.broken_links = breaks[(breaks[:, 0] > previous) & (breaks[:, 0] <= step)]
+                    previous = int(step)
             particles = [Particles(step, frames[step]) for step in sorted(frames)]
     return Recording(session, profiles, particles)
