@@ -5,25 +5,16 @@
 #include <string>
 #include <vector>
 
-#include "server/api/scenario_translation.h"
+#include "server/translation_test_support.h"
 
 namespace lbsolid::server {
 namespace {
 
 namespace v1 = lbsolid::v1;
 
-TranslatedScenario translated(const std::string& text) {
-  v1::Scenario scenario;
-  std::string error;
-  EXPECT_TRUE(parse_scenario_text(text, &scenario, &error)) << error << "\nin:\n" << text;
-  return translate_scenario(scenario);
-}
-
-std::string listed(const std::vector<std::string>& lines) {
-  std::string out;
-  for (const auto& e : lines) out += "\n  " + e;
-  return out.empty() ? " (none)" : out;
-}
+using testing::expect_one_error_starting;
+using testing::listed;
+using testing::translated;
 
 // A free chain of 8 in a solid-only box, with `more` inside its body.
 std::string chain(const std::string& more) {
@@ -69,21 +60,12 @@ TEST(FractureTranslation, MisusesAreReportedOnTheirPaths) {
       {chain("point_loads { label { i: 1 } force { y: nan } }"),
        "scenario.bodies[0].point_loads.force: must be finite"},
   };
-  for (const Case& c : cases) {
-    const auto t = translated(c.scenario);
-    int found = 0;
-    for (const auto& e : t.errors) found += e.rfind(c.error, 0) == 0;
-    EXPECT_EQ(found, 1) << "expected one error starting \"" << c.error << "\"; got" << listed(t.errors)
-                        << "\nfor: " << c.scenario;
-  }
+  for (const Case& c : cases) expect_one_error_starting(c.scenario, c.error);
   // With a fluid, the pairwise exchange cannot step a shed particle.
-  const auto pairwise = translated(
+  expect_one_error_starting(
       "domain { nx: 64 ny: 64 } exchange: EXCHANGE_RULE_PAIRWISE bodies { shape: BODY_SHAPE_CHAIN length: 8 "
-      "centre { x: 32 y: 32 } fracture { max_force: 0.01 } }");
-  int found = 0;
-  for (const auto& e : pairwise.errors)
-    found += e.rfind("scenario.bodies[0].fracture: breaking bodies need the common-velocity exchange rule", 0) == 0;
-  EXPECT_EQ(found, 1) << listed(pairwise.errors);
+      "centre { x: 32 y: 32 } fracture { max_force: 0.01 } }",
+      "scenario.bodies[0].fracture: breaking bodies need the common-velocity exchange rule");
 }
 
 }  // namespace

@@ -5,25 +5,16 @@
 #include <string>
 #include <vector>
 
-#include "server/api/scenario_translation.h"
+#include "server/translation_test_support.h"
 
 namespace lbsolid::server {
 namespace {
 
 namespace v1 = lbsolid::v1;
 
-TranslatedScenario translated(const std::string& text) {
-  v1::Scenario scenario;
-  std::string error;
-  EXPECT_TRUE(parse_scenario_text(text, &scenario, &error)) << error << "\nin:\n" << text;
-  return translate_scenario(scenario);
-}
-
-std::string listed(const std::vector<std::string>& lines) {
-  std::string out;
-  for (const auto& e : lines) out += "\n  " + e;
-  return out.empty() ? " (none)" : out;
-}
+using testing::expect_one_error_starting;
+using testing::listed;
+using testing::translated;
 
 // A D2Q9 channel between bounce-back y walls, with the given x sides.
 std::string channel(const std::string& x_low, const std::string& x_high, const std::string& more = "") {
@@ -83,13 +74,7 @@ TEST(OpenSidesTranslation, MisusesAreReportedOnTheirPaths) {
       {channel("kind: WALL_KIND_VELOCITY_INLET inflow_profile: 7", kOutlet),
        "scenario.domain.x_low.inflow_profile: unknown value 7; use INFLOW_PROFILE_UNIFORM or INFLOW_PROFILE_PARABOLIC"},
   };
-  for (const Case& c : cases) {
-    const auto t = translated(c.scenario);
-    int found = 0;
-    for (const auto& e : t.errors) found += e.rfind(c.error, 0) == 0;
-    EXPECT_EQ(found, 1) << "expected one error starting \"" << c.error << "\"; got" << listed(t.errors)
-                        << "\nfor: " << c.scenario;
-  }
+  for (const Case& c : cases) expect_one_error_starting(c.scenario, c.error);
 }
 
 // The monitor's limits apply only when it runs: with a wider band the same outlet is fine, and a
