@@ -164,9 +164,17 @@ class FluidLattice {
   std::array<T, L::Q> gather_at(const PullSources<T, L::Q>& sources, long cell) const;
   DensityMomentum density_momentum_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
   Moments moments_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
-  // visit(x, moments(x, y, z)) for x = first .. first + count - 1, in order.
-  template <class Visit>
-  void for_each_row_moment(int y, int z, int first, int count, const Visit& visit) const;
+  // Where the interior nodes of row (y, z) find their populations at time t: population i of
+  // node x is from[i][x] (+ correction[i] unless plain).
+  struct InteriorRow {
+    std::array<const T*, L::Q> from{};
+    std::array<T, L::Q> correction{};
+    bool plain = false;
+  };
+  InteriorRow interior_row(int y, int z) const;
+  static constexpr int kMomentBlock = 8;
+  template <int A, class Visit>
+  void for_each_interior_block(int y, int z, int first, int end, const Visit& visit) const;
   void check_in_place_slots() const;
   // One step's fused kernels with the given collision policy (bgk_collision.h and siblings).
   template <class Collision>

@@ -83,13 +83,14 @@ TYPED_TEST(StreamingSchemeTest, InPlaceMatchesTwoBufferWithAMovingWall) {
 
 // walled_box() (or the same box periodic on every side) in `scheme`, with a density and velocity
 // that vary from node to node: the observers' tests read it back node by node and row by row.
-template <class L>
-std::unique_ptr<FluidLattice<L, double>> varied_box(bool walled, StreamingScheme scheme) {
+template <class L, class T = double>
+std::unique_ptr<FluidLattice<L, T>> varied_box(bool walled, StreamingScheme scheme, int nx = 9) {
   FluidConfig c = walled_box<L>();
+  c.nx = nx;
   if (!walled)
     for (auto& side : c.sides) side = fluid::SideBoundary{};  // periodic
   c.streaming = scheme;
-  auto fluid = std::make_unique<FluidLattice<L, double>>(c);
+  auto fluid = std::make_unique<FluidLattice<L, T>>(c);
   fluid->initialize([](int x, int y, int z) { return 1.0 + 0.001 * (x - y + z); },
                     [](int x, int y, int) { return Vec3{0.01 * std::sin(0.7 * x), 0.02 * std::cos(0.3 * y), 0}; });
   return fluid;
@@ -97,11 +98,11 @@ std::unique_ptr<FluidLattice<L, double>> varied_box(bool walled, StreamingScheme
 
 // check(fluid, walled, scheme) on varied_box() walled and periodic, in both schemes, after 0, 1, 2
 // and 8 steps (odd and even counts: the in-place scheme stores populations differently after each).
-template <class L, class Check>
-void for_each_varied_state(const Check& check) {
+template <class L, class T = double, class Check>
+void for_each_varied_state(const Check& check, int nx = 9) {
   for (const bool walled : {true, false})
     for (const auto scheme : {StreamingScheme::kTwoBuffer, StreamingScheme::kInPlace}) {
-      auto fluid = varied_box<L>(walled, scheme);
+      auto fluid = varied_box<L, T>(walled, scheme, nx);
       for (long steps : {0L, 1L, 1L, 6L}) {
         fluid->run(steps);
         check(*fluid, walled, scheme);
@@ -113,43 +114,65 @@ void for_each_varied_state(const Check& check) {
 // sources for the interior nodes (add_row_velocity_x); it must give the very values that
 // velocity(x, y, z), which resolves every node through its own sources, gives: in both schemes,
 // after odd and even step counts (the in-place scheme reads differently after each), through the
-// walls, corners and the periodic x sides of walled_box() and a periodic box.
+// walls, corners and the periodic x sides of walled_box() and a periodic box. It sums the interior
+// in blocks of 8 nodes: rows of 9 (one short block) and 150 (18 whole blocks and a short one), in
+// both precisions.
+template <class L, class T>
+void expect_row_velocity_sums_equal_per_node_velocities(int nx) {
+  for_each_varied_state<L, T>(
+      [nx](const FluidLattice<L, T>& fluid, bool walled, StreamingScheme scheme) {
+        const FluidConfig& c = fluid.config();
+        for (int z = 0; z < c.nz; ++z)
+          for (int y = 0; y < c.ny; ++y) {
+            double fast = 0, per_node = 0;
+            fluid.add_row_velocity_x(y, z, fast);
+            for (int x = 0; x < c.nx; ++x) per_node += fluid.velocity(x, y, z)[0];
+            ASSERT_EQ(fast, per_node) << "nx " << nx << ", row " << y << ", layer " << z << ", walled " << walled
+                                      << ", scheme " << static_cast<int>(scheme) << ", step " << fluid.step_count();
+          }
+      },
+      nx);
+}
+
 TYPED_TEST(StreamingSchemeTest, RowVelocitySumsEqualPerNodeVelocitiesBitForBit) {
-  using L = TypeParam;
-  for_each_varied_state<L>([](const FluidLattice<L, double>& fluid, bool walled, StreamingScheme scheme) {
-    const FluidConfig& c = fluid.config();
-    for (int z = 0; z < c.nz; ++z)
-      for (int y = 0; y < c.ny; ++y) {
-        double fast = 0, per_node = 0;
-        fluid.add_row_velocity_x(y, z, fast);
-        for (int x = 0; x < c.nx; ++x) per_node += fluid.velocity(x, y, z)[0];
-        ASSERT_EQ(fast, per_node) << "row " << y << ", layer " << z << ", walled " << walled << ", scheme "
-                                  << static_cast<int>(scheme) << ", step " << fluid.step_count();
-      }
-  });
+  expect_row_velocity_sums_equal_per_node_velocities<TypeParam, double>(9);
+  expect_row_velocity_sums_equal_per_node_velocities<TypeParam, double>(150);
+  expect_row_velocity_sums_equal_per_node_velocities<TypeParam, float>(150);
 }
 
 // Field reads (GetField, field snapshots) take whole rows through row_moments: every node's
 // density and velocity must be those moments(x, y, z) gives, bit for bit, for any segment of a row
 // (a read in chunks starts and ends mid-row), in both schemes, after odd and even step counts,
-// with walls and without.
+// with walls and without. The interior goes in blocks of 8 nodes: rows of 9 and 150 nodes, and
+// segments that start and end inside a block, in both precisions.
+template <class L, class T>
+void expect_row_moments_equal_per_node_moments(int nx) {
+  for_each_varied_state<L, T>(
+      [](const FluidLattice<L, T>& fluid, bool, StreamingScheme) {
+        const FluidConfig& c = fluid.config();
+        for (int z = 0; z < c.nz; ++z)
+          for (int y = 0; y < c.ny; ++y)
+            for (const auto& [first, count] : {std::pair{0, c.nx}, std::pair{1, c.nx - 2}, std::pair{c.nx - 1, 1},
+                                               std::pair{0, 1}, std::pair{3, c.nx - 5}, std::pair{2, c.nx - 2}}) {
+              std::vector<double> density(count), velocity(3 * count);
+              fluid.row_moments(y, z, first, count, density.data(), velocity.data());
+              for (int k = 0; k < count; ++k) {
+                const auto m = fluid.moments(first + k, y, z);
+                ASSERT_EQ(density[k], m.rho) << "nx " << c.nx << ", node " << first + k << ", row " << y << ", step "
+                                             << fluid.step_count();
+                for (int a = 0; a < 3; ++a)
+                  ASSERT_EQ(velocity[3 * k + a], m.u[a]) << "nx " << c.nx << ", node " << first + k << ", row " << y
+                                                         << ", axis " << a;
+              }
+            }
+      },
+      nx);
+}
+
 TYPED_TEST(StreamingSchemeTest, RowMomentsEqualPerNodeMomentsBitForBit) {
-  using L = TypeParam;
-  for_each_varied_state<L>([](const FluidLattice<L, double>& fluid, bool, StreamingScheme) {
-    const FluidConfig& c = fluid.config();
-    for (int z = 0; z < c.nz; ++z)
-      for (int y = 0; y < c.ny; ++y)
-        for (const auto [first, count] : {std::pair{0, c.nx}, std::pair{1, c.nx - 2}, std::pair{c.nx - 1, 1}}) {
-          std::vector<double> density(count), velocity(3 * count);
-          fluid.row_moments(y, z, first, count, density.data(), velocity.data());
-          for (int k = 0; k < count; ++k) {
-            const auto m = fluid.moments(first + k, y, z);
-            ASSERT_EQ(density[k], m.rho) << "node " << first + k << ", row " << y << ", step " << fluid.step_count();
-            for (int a = 0; a < 3; ++a)
-              ASSERT_EQ(velocity[3 * k + a], m.u[a]) << "node " << first + k << ", row " << y << ", axis " << a;
-          }
-        }
-  });
+  expect_row_moments_equal_per_node_moments<TypeParam, double>(9);
+  expect_row_moments_equal_per_node_moments<TypeParam, double>(150);
+  expect_row_moments_equal_per_node_moments<TypeParam, float>(150);
 }
 
 }  // namespace
