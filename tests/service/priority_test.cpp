@@ -8,8 +8,12 @@
 
 #include <map>
 
+#include <thread>
+
+#include "server/session/thread_priority.h"
 #include "service/daemon_process.h"
 #include "service/proc_threads.h"
+#include "service/refused_start.h"
 #include "service/test_scenarios.h"
 
 namespace lbsolid::testing {
@@ -46,6 +50,51 @@ TEST(CallPriority, CallsAreAnsweredBelowTheSimulationThreads) {
   ASSERT_TRUE(create_session(*stub, threaded, &session).ok());
   auto after = threads_by_nice(daemon.pid());
   EXPECT_EQ(after[base], before[base]);
+}
+
+// Whether this kernel gives a normal thread the slice it asks for (Linux 6.12+), tried on a thread
+// of this test, which is then gone.
+bool kernel_honours_slices() {
+  bool honoured = false;
+  std::thread([&] { honoured = server::shorten_this_thread_time_slice(std::chrono::microseconds(250)) == 0; }).join();
+  return honoured;
+}
+
+// The call threads ask for short time slices (--call_slice), so that a call that wakes preempts a
+// step sooner; the simulation threads keep the kernel's default.
+TEST(CallPriority, CallThreadsRunWithTheShortSliceAndTheSimulationThreadsWithout) {
+  ScopedDirectory dir("lbsolid-slice");
+  const int base = getpriority(PRIO_PROCESS, 0);
+  ASSERT_LE(base + 7, 19) << "run the test at nice 12 or less: above, the demotion cannot show";
+  const auto default_slice = server::thread_time_slice();
+  DaemonProcess daemon(dir.path, {"--call_nice=7", "--call_slice=300us", "--workers=2"});
+  auto stub = daemon.stub();
+  v1::Session session;
+  ASSERT_TRUE(create_session(*stub, small_channel_with_disk(), &session).ok());
+
+  int calls = 0, base_threads = 0;
+  for (const auto& thread : thread_stats(daemon.pid())) {
+    const auto slice = server::thread_time_slice(thread.tid);
+    if (!slice) continue;  // the thread ended meanwhile
+    if (thread.nice == base + 7) {
+      ++calls;
+      if (kernel_honours_slices())
+        EXPECT_EQ(slice->count(), 300'000) << "call thread " << thread.tid;
+      else
+        EXPECT_EQ(*slice, default_slice) << "call thread " << thread.tid << ": an older kernel keeps its default";
+    } else {
+      ++base_threads;
+      ASSERT_TRUE(default_slice.has_value());
+      EXPECT_EQ(*slice, *default_slice) << "simulation thread " << thread.tid;
+    }
+  }
+  EXPECT_GE(calls, 1);
+  EXPECT_GE(base_threads, 2);
+}
+
+TEST(CallPriority, ASliceOutsideTheKernelsRangeIsRefusedAtStart) {
+  for (const char* flag : {"--call_slice=50us", "--call_slice=1s", "--call_slice=-1ms"})
+    expect_refused_start({flag}, "--call_slice: must be 0 or lie in [100us, 100ms]");
 }
 
 }  // namespace

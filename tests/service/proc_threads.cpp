@@ -37,7 +37,7 @@ std::vector<ThreadStat> thread_stats(int pid) {
   std::error_code error;
   for (const auto& task : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task", error)) {
     const auto field = stat_fields(task.path() / "stat");
-    if (!field.empty()) threads.push_back({std::stoi(field[19]), cpu_seconds(field)});
+    if (!field.empty()) threads.push_back({std::stoi(task.path().filename().string()), std::stoi(field[19]), cpu_seconds(field)});
   }
   return threads;
 }

@@ -6,6 +6,7 @@
 namespace lbsolid::testing {
 
 struct ThreadStat {
+  int tid = 0;
   int nice = 0;
   double cpu_seconds = 0;
 };

@@ -17,6 +17,7 @@
 
 #include "service/coreutils_sha256.h"
 #include "service/daemon_process.h"
+#include "service/refused_start.h"
 #include "service/test_certificates.h"
 #include "reflection.grpc.pb.h"
 #include "service/test_scenarios.h"
@@ -85,19 +86,6 @@ grpc::Status stream_status(v1::Simulation::Stub& stub, Open open, const Request&
     return grpc::Status(grpc::StatusCode::INTERNAL, "the stream sent a frame");
   }
   return reader->Finish();
-}
-
-// Starting fails with exit status 2 and `fragment` in the log.
-void expect_refused_start(const std::vector<std::string>& flags, const std::string& fragment) {
-  const ScopedDirectory dir("lbsolid-remote");
-  const std::string log = dir.path + "/log";
-  try {
-    DaemonProcess daemon(dir.path + "/data", flags, {}, {nullptr, log});
-    ADD_FAILURE() << "started with the flags that must be refused";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("exited at start with status 2"), std::string::npos) << e.what();
-  }
-  EXPECT_NE(log_of(log).find(fragment), std::string::npos) << log_of(log);
 }
 
 class RemoteAccess : public ::testing::Test {
