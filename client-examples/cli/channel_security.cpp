@@ -74,11 +74,14 @@ std::shared_ptr<grpc::Channel> open_channel(const GlobalOptions& options, const 
     }
     credentials = grpc::SslCredentials(ssl);
   }
+  grpc::ChannelArguments with_name = args;
+  // An address resolved from a name: the certificate must bear the name.
+  if (!options.server_name.empty() && !options.tls_ca.empty()) with_name.SetSslTargetNameOverride(options.server_name);
   const std::string token = token_of(options);
-  if (token.empty()) return grpc::CreateCustomChannel(options.server, credentials, args);
+  if (token.empty()) return grpc::CreateCustomChannel(options.server, credentials, with_name);
   std::vector<std::unique_ptr<grpc::experimental::ClientInterceptorFactoryInterface>> interceptors;
   interceptors.push_back(std::make_unique<BearerTokenFactory>(token));
-  return grpc::experimental::CreateCustomChannelWithInterceptors(options.server, credentials, args,
+  return grpc::experimental::CreateCustomChannelWithInterceptors(options.server, credentials, with_name,
                                                                  std::move(interceptors));
 }
 

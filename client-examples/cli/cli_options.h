@@ -29,6 +29,9 @@ struct GlobalOptions {
   std::string tls_cert;    // --tls-cert, --tls-key: a client certificate for mutual TLS (PEM)
   std::string tls_key;
   std::string token_file;  // --token-file: a bearer token's file (else $LBSOLID_TOKEN)
+  // Set when `server` is one address of a DNS name that named several daemons (daemon_names.h):
+  // TLS checks the daemon's certificate for this name, not for the address.
+  std::string server_name;
 };
 
 struct FlagSpec {

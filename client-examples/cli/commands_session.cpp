@@ -47,10 +47,8 @@ int cmd_status(const CommandLine& line) {
 int cmd_list(const CommandLine& line) {
   std::vector<std::string> sessions;
   std::string text;
-  for (const std::string& server : listed_servers(line.global.server)) {  // every daemon's, in --server order
-    GlobalOptions one = line.global;
-    one.server = server;
-    Daemon daemon(one);
+  for (const DaemonAddress& server : listed_servers(line.global.server)) {  // every daemon's, in --server order
+    Daemon daemon(on_daemon(line.global, server));
     const auto response = daemon.call("ListSessions", &Stub::ListSessions, lbsolid::v1::ListSessionsRequest());
     for (const auto& s : response.sessions()) {
       sessions.push_back(session_json(s, /*with_scenario=*/false));  // `status ID` shows a scenario

@@ -10,22 +10,17 @@
 namespace lbsolid::cli {
 namespace {
 
-GlobalOptions on(const GlobalOptions& options, const std::string& server) {
-  GlobalOptions one = options;
-  one.server = server;
-  return one;
-}
-
-void warn_unreachable(const std::string& server, const RpcError& e) {
-  std::fprintf(stderr, "lbsolid: warning: %s skipped: %s\n", server.c_str(), e.what());
+void warn_unreachable(const DaemonAddress& server, const RpcError& e) {
+  const std::string what = server.name.empty() ? server.target : server.target + " (" + server.name + ")";
+  std::fprintf(stderr, "lbsolid: warning: %s skipped: %s\n", what.c_str(), e.what());
 }
 
 // The daemon holding a session of this request id (the caller's own), if one does.
-std::optional<std::string> holder_of_request(const GlobalOptions& options, const std::vector<std::string>& servers,
-                                             const std::string& request_id) {
-  for (const std::string& server : servers) {
+std::optional<DaemonAddress> holder_of_request(const GlobalOptions& options, const std::vector<DaemonAddress>& servers,
+                                               const std::string& request_id) {
+  for (const DaemonAddress& server : servers) {
     try {
-      Daemon daemon(on(options, server));
+      Daemon daemon(on_daemon(options, server));
       const auto listed = daemon.call("ListSessions", &Stub::ListSessions, lbsolid::v1::ListSessionsRequest());
       for (const auto& session : listed.sessions())
         if (session.request_id() == request_id) return server;
@@ -38,7 +33,7 @@ std::optional<std::string> holder_of_request(const GlobalOptions& options, const
 
 }  // namespace
 
-std::vector<std::string> listed_servers(const std::string& server) {
+std::vector<DaemonAddress> listed_servers(const std::string& server) {
   std::vector<std::string> servers;
   std::size_t begin = 0;
   while (true) {
@@ -46,7 +41,7 @@ std::vector<std::string> listed_servers(const std::string& server) {
     const std::string entry = server.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin);
     if (entry.empty()) throw UsageError("--server: an empty address in '" + server + "'");
     servers.push_back(entry);
-    if (comma == std::string::npos) return servers;
+    if (comma == std::string::npos) return expand_dns_names(servers);
     begin = comma + 1;
   }
 }
@@ -64,19 +59,28 @@ std::size_t least_loaded(const std::vector<DaemonLoad>& loads) {
   return best;
 }
 
-GlobalOptions first_daemon(const GlobalOptions& options) { return on(options, listed_servers(options.server).front()); }
+GlobalOptions on_daemon(const GlobalOptions& options, const DaemonAddress& daemon) {
+  GlobalOptions one = options;
+  one.server = daemon.target;
+  one.server_name = daemon.name;
+  return one;
+}
+
+GlobalOptions first_daemon(const GlobalOptions& options) {
+  return on_daemon(options, listed_servers(options.server).front());
+}
 
 GlobalOptions daemon_for_new_session(const GlobalOptions& options, const std::string& request_id) {
-  const std::vector<std::string> servers = listed_servers(options.server);
-  if (servers.size() == 1) return options;
+  const std::vector<DaemonAddress> servers = listed_servers(options.server);
+  if (servers.size() == 1) return on_daemon(options, servers.front());
   if (!request_id.empty())
-    if (const auto holder = holder_of_request(options, servers, request_id)) return on(options, *holder);
-  std::vector<std::string> reachable;
+    if (const auto holder = holder_of_request(options, servers, request_id)) return on_daemon(options, *holder);
+  std::vector<DaemonAddress> reachable;
   std::vector<DaemonLoad> loads;
   std::optional<RpcError> last_error;
-  for (const std::string& server : servers) {
+  for (const DaemonAddress& server : servers) {
     try {
-      Daemon daemon(on(options, server));
+      Daemon daemon(on_daemon(options, server));
       const auto info = daemon.call("GetServerInfo", &Stub::GetServerInfo, lbsolid::v1::GetServerInfoRequest());
       reachable.push_back(server);
       loads.push_back({info.running_sessions(), info.workers(), info.sessions()});
@@ -86,20 +90,20 @@ GlobalOptions daemon_for_new_session(const GlobalOptions& options, const std::st
     }
   }
   if (reachable.empty()) throw *last_error;
-  return on(options, reachable[least_loaded(loads)]);
+  return on_daemon(options, reachable[least_loaded(loads)]);
 }
 
 GlobalOptions daemon_of_session(const GlobalOptions& options, const std::string& session_id) {
-  const std::vector<std::string> servers = listed_servers(options.server);
-  if (servers.size() == 1) return options;
+  const std::vector<DaemonAddress> servers = listed_servers(options.server);
+  if (servers.size() == 1) return on_daemon(options, servers.front());
   std::optional<RpcError> unreachable;
-  for (const std::string& server : servers) {
+  for (const DaemonAddress& server : servers) {
     try {
-      Daemon daemon(on(options, server));
+      Daemon daemon(on_daemon(options, server));
       lbsolid::v1::GetSessionRequest request;
       request.set_session_id(session_id);
       daemon.call("GetSession", &Stub::GetSession, request);
-      return on(options, server);
+      return on_daemon(options, server);
     } catch (const RpcError& e) {
       if (e.code != grpc::StatusCode::NOT_FOUND) {
         warn_unreachable(server, e);

@@ -3,16 +3,22 @@
 // A new session goes to the least loaded (fewest RUNNING sessions per worker, then fewest
 // sessions held, then the first listed), or, when its --request-id was used before, to the daemon
 // that already holds it, so that a retried submit finds its first session; every later call about
-// a session goes to the daemon that holds it. With one daemon listed nothing is asked.
+// a session goes to the daemon that holds it. With one daemon listed nothing is asked. A DNS name
+// that resolves to several addresses counts as that many daemons (daemon_names.h).
 #include <string>
 #include <vector>
 
 #include "cli_options.h"
+#include "daemon_names.h"
 
 namespace lbsolid::cli {
 
-// The addresses of `server`, in order; UsageError naming --server for an empty entry.
-std::vector<std::string> listed_servers(const std::string& server);
+// The daemons of `server`, in order, DNS names of several addresses expanded; UsageError naming
+// --server for an empty entry.
+std::vector<DaemonAddress> listed_servers(const std::string& server);
+
+// The options with `server` set to that one daemon.
+GlobalOptions on_daemon(const GlobalOptions& options, const DaemonAddress& daemon);
 
 // The options with `server` set to the first daemon listed (calls about no session: info,
 // validate, restore).

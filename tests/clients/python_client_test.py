@@ -22,6 +22,7 @@ import numpy as np
 REPOSITORY = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPOSITORY / "client-examples" / "python"))
 
+from lbsolid_client.daemon_names import expand_dns_names, resolve_tcp  # noqa: E402
 from lbsolid_client import (Client, Cluster, InvalidArgument, LocalDaemon, NotFound, SessionFailed,  # noqa: E402
                             load_scenario, retryable)
 
@@ -309,6 +310,31 @@ class PythonClientOverTls(unittest.TestCase):
                     client.info()
                 self.assertEqual(caught.exception.code(), grpc.StatusCode.UNAUTHENTICATED, token)
                 self.assertFalse(retryable(caught.exception))
+
+
+class DnsNamesOfSeveralDaemons(unittest.TestCase):
+    """A name resolving to several addresses is that many daemons (the CLI's rule, daemon_names.h);
+    tests/clients/dns_name_daemons_test.sh runs a Cluster and the CLI through such a name."""
+
+    def test_a_name_of_several_addresses_expands_and_the_rest_stays_as_listed(self):
+        names = {"replicas.example": ["10.0.0.7", "10.0.0.8", "fd00::9"], "one.example": ["10.0.0.1"]}
+        asked = []
+
+        def resolve(host):
+            asked.append(host)
+            return names.get(host, [])
+        entries = ["replicas.example:50051", "one.example:443", "absent.example:1", "unix:/run/l.sock",
+                   "127.0.0.1:5", "[::1]:5", "dns:///replicas.example:5", "noport"]
+        self.assertEqual(expand_dns_names(entries, resolve), [
+            ("10.0.0.7:50051", "replicas.example"), ("10.0.0.8:50051", "replicas.example"),
+            ("[fd00::9]:50051", "replicas.example"), ("one.example:443", None), ("absent.example:1", None),
+            ("unix:/run/l.sock", None), ("127.0.0.1:5", None), ("[::1]:5", None),
+            ("dns:///replicas.example:5", None), ("noport", None)])
+        self.assertEqual(asked, ["replicas.example", "one.example", "absent.example"])
+
+    def test_the_system_resolver_gives_each_address_once(self):
+        self.assertEqual(resolve_tcp("127.0.0.1"), ["127.0.0.1"])
+        self.assertEqual(resolve_tcp("name.invalid"), [])  # RFC 6761: never resolves
 
 
 class ClusterPlacesAndFollowsSessions(unittest.TestCase):

@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -13,6 +14,7 @@
 
 #include "cli_error.h"
 #include "cli_options.h"
+#include "daemon_names.h"
 #include "declared_steps.h"
 #include "exit_codes.h"
 #include "json_writer.h"
@@ -314,6 +316,53 @@ TEST(ExitCodes, FailuresThatARetryCannotFixAreBadInput) {
 }
 
 // --- JSON and progress text ------------------------------------------------------------------------
+
+// A fake DNS: names and their addresses; counts the questions.
+struct FakeDns {
+  std::map<std::string, std::vector<std::string>> names;
+  int questions = 0;
+  Resolver resolver() {
+    return [this](const std::string& host) {
+      ++questions;
+      const auto it = names.find(host);
+      return it == names.end() ? std::vector<std::string>{} : it->second;
+    };
+  }
+};
+
+TEST(DaemonNames, ANameOfSeveralAddressesIsThatManyDaemons) {
+  FakeDns dns{{{"replicas.example", {"10.0.0.7", "10.0.0.8", "fd00::9"}}, {"one.example", {"10.0.0.1"}}}};
+  const auto daemons = expand_dns_names({"replicas.example:50051", "one.example:443", "absent.example:1"}, dns.resolver());
+  ASSERT_EQ(daemons.size(), 5u);
+  EXPECT_EQ(daemons[0].target, "10.0.0.7:50051");
+  EXPECT_EQ(daemons[1].target, "10.0.0.8:50051");
+  EXPECT_EQ(daemons[2].target, "[fd00::9]:50051");
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(daemons[k].name, "replicas.example");
+  // One address, or none: left to gRPC as listed (it resolves again when it dials, or reports it).
+  EXPECT_EQ(daemons[3].target, "one.example:443");
+  EXPECT_EQ(daemons[3].name, "");
+  EXPECT_EQ(daemons[4].target, "absent.example:1");
+  EXPECT_EQ(dns.questions, 3);
+}
+
+TEST(DaemonNames, SocketsLiteralsSchemesAndPortlessEntriesAreNotResolved) {
+  FakeDns dns;
+  const std::vector<std::string> entries = {"unix:/run/lbsolid.sock", "127.0.0.1:50051", "[::1]:50051",
+                                            "dns:///replicas.example:50051", "ipv4:10.0.0.1:5", "nohostport"};
+  const auto daemons = expand_dns_names(entries, dns.resolver());
+  ASSERT_EQ(daemons.size(), entries.size());
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    EXPECT_EQ(daemons[k].target, entries[k]);
+    EXPECT_EQ(daemons[k].name, "");
+  }
+  EXPECT_EQ(dns.questions, 0);
+}
+
+TEST(DaemonNames, TheSystemResolverGivesEachAddressOnce) {
+  // getaddrinfo answers 127.0.0.1 once per socket type unless asked for one: SOCK_STREAM only.
+  EXPECT_EQ(resolve_tcp("127.0.0.1"), std::vector<std::string>{"127.0.0.1"});
+  EXPECT_TRUE(resolve_tcp("name.invalid").empty());  // RFC 6761: .invalid never resolves
+}
 
 TEST(JsonWriter, EscapesAndNumbers) {
   EXPECT_EQ(json_quote("a\"b\\c\n\x01"), "\"a\\\"b\\\\c\\n\\u0001\"");

@@ -4,6 +4,7 @@
         session = cluster.create(scenario)      # on the least loaded daemon
         cluster.session(session.id).wait()      # found again on the daemon that holds it
 
+A DNS name that resolves to several addresses counts as that many daemons (daemon_names.py).
 A new session goes to the daemon with the fewest running sessions per worker, then the fewest
 sessions held, then the first listed; with a request id seen before, to the daemon that already
 holds it, so that a retried create answers with its first session. A Session keeps the Client of
@@ -14,6 +15,7 @@ place between the question and the create.
 import grpc
 
 from .client import Client, Session
+from .daemon_names import expand_dns_names
 from .errors import NotFound
 
 
@@ -25,7 +27,16 @@ class Cluster:
             addresses = addresses.split(",")
         if not addresses or any(not a for a in addresses):
             raise ValueError(f"addresses: an empty address in {addresses!r}")
-        self.clients = [Client(a, **client_options) for a in addresses]
+        self.clients = [Client(target, **self._for_name(name, client_options))
+                        for target, name in expand_dns_names(addresses)]
+
+    @staticmethod
+    def _for_name(name, client_options):
+        """An address resolved from `name`: over TLS, the certificate must bear the name."""
+        if name is None or not client_options.get("tls_ca"):
+            return client_options
+        options = list(client_options.get("options") or []) + [("grpc.ssl_target_name_override", name)]
+        return {**client_options, "options": options}
 
     def close(self):
         for client in self.clients:
