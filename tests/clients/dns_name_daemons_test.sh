@@ -8,8 +8,8 @@
 #    placement, so the fewest-sessions rule deals them 2/2/2; each ends DONE.
 # 2. `status ID` through the name finds each job on the daemon its endpoint names; `list` lists all six.
 # 3. Over TLS, each address's certificate is checked for the name: three TLS daemons with a
-#    certificate for daemons.test answer `list` through it; with one for elsewhere.test, the call
-#    fails because the peer is not daemons.test.
+#    certificate for daemons.test answer the CLI's `list` and the Python Cluster through it; with
+#    one for elsewhere.test, the CLI's call fails because the peer is not daemons.test.
 # 4. The Python client's Cluster("daemons.test:PORT") holds the three daemons and finds the jobs
 #    where they are (with LBSOLID_PYTHON_STUBS set, as CMake does when the Python stubs are built).
 set -euo pipefail
@@ -101,6 +101,19 @@ start_three --tls_cert "$work/right.pem" --tls_key "$work/right.key"
 in_namespace "$cli" --server "daemons.test:$port" --tls-ca "$work/ca.pem" list 2> "$work/tls.err" ||
   { cat "$work/tls.err"; fail "TLS through the name"; }
 ! grep -q warning "$work/tls.err" || { cat "$work/tls.err"; fail "a TLS daemon was skipped"; }
+# The Python Cluster too (when its stubs are given): three clients over TLS, each answering.
+if [ -n "${LBSOLID_PYTHON_STUBS:-}" ]; then
+  in_namespace /usr/bin/python3 - "$source/client-examples/python" "daemons.test:$port" "$work/ca.pem" <<'PY' ||
+import sys
+sys.path.insert(0, sys.argv[1])
+from lbsolid_client import Cluster
+with Cluster(sys.argv[2], timeout=30, tls_ca=sys.argv[3]) as cluster:
+    assert len(cluster.clients) == 3, f"{len(cluster.clients)} clients"
+    endpoints = sorted(client.info().endpoint for client in cluster.clients)
+    assert len(set(endpoints)) == 3, endpoints
+PY
+    fail "the Python Cluster over TLS through the name"
+fi
 start_three --tls_cert "$work/wrong.pem" --tls_key "$work/wrong.key"
 in_namespace "$cli" --server "daemons.test:$port" --tls-ca "$work/ca.pem" list 2> "$work/wrong.err" &&
   fail "daemons with a certificate for elsewhere.test answered through daemons.test"
