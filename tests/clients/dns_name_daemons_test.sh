@@ -14,15 +14,8 @@
 #    where they are (with LBSOLID_PYTHON_STUBS set, as CMake does when the Python stubs are built).
 set -euo pipefail
 daemon=$1 cli=$2 source=$3
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null && wait "$pid" || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
-fail() { echo "DNS-name daemons test: $*" >&2; exit 1; }
-field() { /usr/bin/python3 -c "import json,sys; d=json.load(sys.stdin); print(d$1)"; }
+test_name="DNS-name daemons test"
+source "$(dirname "$0")/daemons_test_lib.sh"
 
 # A private mount namespace: as root directly, otherwise inside a user namespace of one's own.
 namespace=(unshare -m)

@@ -11,15 +11,8 @@
 #    choose next); the two new jobs go to the other two, whose running sessions are fewer.
 set -euo pipefail
 daemon=$1 cli=$2 source=$3
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null && wait "$pid" || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
-fail() { echo "multi-daemon sweep test: $*" >&2; exit 1; }
-field() { /usr/bin/python3 -c "import json,sys; d=json.load(sys.stdin); print(d$1)"; }
+test_name="multi-daemon sweep test"
+source "$(dirname "$0")/daemons_test_lib.sh"
 
 addresses=()
 for name in a b c; do
