@@ -277,6 +277,7 @@ bool Session::finish_slice() {
 
 bool Session::step_once() {
   const long step = sim_->step_count() + 1;
+  ++fields_generation_;  // before: a step that throws halfway has changed the state too
   try {
     sim_->step();  // the scene's monitor checks the run every stability.check_interval steps
   } catch (const scene::InstabilityError& e) {
@@ -683,8 +684,11 @@ absl::StatusOr<std::shared_ptr<const FieldData>> Session::fields() const {
   if (!filled) filled = std::make_unique<FieldData>();
   {
     const auto sim_lock = lock_simulation();
-    filled->step = sim_->step_count();
-    sim_->fill_fluid_fields(filled->fields);  // into the spare's memory, already faulted in
+    if (filled->generation != fields_generation_) {  // else nothing changed since the spare was filled
+      filled->step = sim_->step_count();
+      sim_->fill_fluid_fields(filled->fields);  // into the spare's memory, already faulted in
+      filled->generation = fields_generation_;
+    }
   }
   filled->spacing = {1.0, scene::lattice_row_spacing(sim_->scene().lattice), 1.0};
   // The last reader hands the snapshot back as the next one's buffer (one is kept: the footprint
@@ -716,6 +720,7 @@ storage::CheckpointContents Session::checkpoint_contents() const {
 
 void Session::restore(const scene::SimulationState& state, long target_step, v1::SessionState session_state) {
   const auto sim_lock = lock_simulation();
+  ++fields_generation_;
   sim_->load_state(state);
   refresh_sizes();
   std::lock_guard lock(mutex_);

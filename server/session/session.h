@@ -45,6 +45,7 @@ struct SessionSetup {
 
 struct FieldData {
   long step = 0;
+  long generation = -1;  // the Session::fields_generation_ the values were computed at
   scene::FluidFields fields;
   std::array<double, 3> spacing{1, 1, 1};
 };
@@ -217,6 +218,9 @@ class Session {
     std::unique_ptr<FieldData> data;
   };
   const std::shared_ptr<SpareSnapshot> spare_snapshot_ = std::make_shared<SpareSnapshot>();
+  // Counts the changes of the simulation's state (a step begun, a state loaded), under sim_mutex_:
+  // a spare snapshot of the current generation is still the fields, and is sent again as it is.
+  long fields_generation_ = 0;
   std::atomic<Clock::rep> progress_noted_{0};  // Clock ticks of the last note
   std::atomic<long> steps_lost_{0};
 

@@ -5,10 +5,12 @@
 //     that only reads the stream and to one that keeps it in fresh memory (see Sink);
 //   - the same download interrupted twice and resumed from the bytes received (naming the
 //     version), with the SHA-256 of what arrived checked against the daemon's;
-//   - GetField of the session (density and velocity), GB/s, the same two ways.
+//   - GetField of the session (density and velocity), GB/s, the same two ways: read again at one
+//     step, and each after a step (whose fields the daemon has not computed yet).
 //   lbsolid-transfer-bench [--mib 1024] [--nx 2048] [--repeats 5] [--fields-only 1]
 // --fields-only 1 records nothing and measures GetField alone (to profile it).
 #include <chrono>
+#include <functional>
 #include <iostream>
 #include <string>
 
@@ -89,11 +91,16 @@ Transfer get_field(v1::Simulation::Stub& stub, const std::string& session_id, Si
 }
 
 // GB/s of `repeats` calls, the first one apart (on a connection that has not carried this much
-// yet, whose HTTP/2 flow-control window is still growing). False if a call failed.
+// yet, whose HTTP/2 flow-control window is still growing); `before_each` runs before each call,
+// untimed. False if a call failed.
 template <class Call>
-bool report_rate(const std::string& what, int repeats, Call call) {
+bool report_rate(const std::string& what, int repeats, Call call, const std::function<bool()>& before_each = [] { return true; }) {
   double first = 0, best = 0, worst = 1e300;
   for (int r = 0; r <= repeats; ++r) {
+    if (!before_each()) {
+      std::cerr << what << ": the preparation failed\n";
+      return false;
+    }
     const auto start = Clock::now();
     const Transfer t = call();
     if (!t.ok || t.bytes == 0) {
@@ -144,11 +151,24 @@ bool measure_downloads(v1::Simulation::Stub& stub, const std::string& session_id
   return same;
 }
 
-// GetField of the session (density and velocity) in 3 MiB chunks.
+// GetField of the session (density and velocity) in 3 MiB chunks: read again at one step (the
+// daemon computes the fields once and sends them again), then each after a step of the session
+// (untimed), which the daemon must compute the fields for.
 bool measure_get_field(v1::Simulation::Stub& stub, const std::string& session_id, int repeats) {
   for (Sink sink : {Sink::kStream, Sink::kFreshMemory})
-    if (!report_rate(std::string("GetField, ") + sink_name(sink), repeats,
+    if (!report_rate(std::string("GetField, again at one step, ") + sink_name(sink), repeats,
                      [&] { return get_field(stub, session_id, sink); }))
+      return false;
+  const auto step = [&] {
+    v1::StepRequest request;
+    request.set_session_id(session_id);
+    request.set_steps(1);
+    v1::StepResponse response;
+    return stub.Step(deadline_context(120).get(), request, &response).ok() && response.steps_taken() == 1;
+  };
+  for (Sink sink : {Sink::kStream, Sink::kFreshMemory})
+    if (!report_rate(std::string("GetField, each after a step, ") + sink_name(sink), repeats,
+                     [&] { return get_field(stub, session_id, sink); }, step))
       return false;
   return true;
 }

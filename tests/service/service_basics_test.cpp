@@ -182,6 +182,39 @@ TEST_F(ServiceBasics, SessionRunsToDoneAndItsFieldsEqualTheCoreRunInProcess) {
   EXPECT_EQ(0, std::memcmp(bytes.data(), expected.data(), bytes.size()));
 }
 
+// A field read is computed once per state and sent again while nothing changes (Session keeps the
+// last one): every read after a step must be the new state, and a read again the same.
+// Each read is compared with the core run in process to the same step.
+TEST_F(ServiceBasics, FieldsReadBetweenStepsAreEachTheCurrentState) {
+  const auto scenario = small_channel_with_disk();
+  v1::CreateSessionRequest create;
+  *create.mutable_scenario() = scenario;
+  v1::Session session;
+  ASSERT_TRUE(stub_->CreateSession(deadline_context().get(), create, &session).ok());
+  auto in_process = scene::build_simulation(server::translate_scenario(scenario).scene);
+  const auto expect_current = [&](const char* when) {
+    FieldBytes read;
+    ASSERT_TRUE(read_fields(*stub_, session.id(), &read, 1024).ok()) << when;
+    EXPECT_EQ(read.step, in_process->step_count()) << when;
+    const auto expected = in_process->fluid_fields();
+    for (const auto& [name, values] : {std::pair{"density", &expected.density}, {"velocity", &expected.velocity}}) {
+      ASSERT_EQ(read.bytes[name].size(), values->size() * sizeof(double)) << when << " " << name;
+      EXPECT_EQ(0, std::memcmp(read.bytes[name].data(), values->data(), read.bytes[name].size())) << when << " " << name;
+    }
+  };
+  v1::StepRequest step;
+  step.set_session_id(session.id());
+  step.set_steps(10);
+  v1::StepResponse stepped;
+  expect_current("at the start");
+  for (int round = 0; round < 3; ++round) {
+    ASSERT_TRUE(stub_->Step(deadline_context().get(), step, &stepped).ok());
+    in_process->run(10);
+    expect_current("after a step");
+    expect_current("read again at the same step");
+  }
+}
+
 // The lifecycle calls on their normal path: Step (synchronous), Run, Pause, Resume, Cancel,
 // ListSessions and DeleteSession, each leaving the state DESIGN.md gives it.
 TEST_F(ServiceBasics, LifecycleCallsMoveTheSessionThroughItsStates) {
