@@ -24,15 +24,11 @@ struct BgkCollision {
   using Rates = T;
   static Rates rates(const FluidConfig& config) { return static_cast<T>(config.omega); }
 
-  // s + c_{I,A} v, with c = 0 and c = +-1 resolved at compile time. Sums start from -0.0, the
-  // exact identity of floating-point addition, so the first term needs no special case.
+  // s + c_{I,A} v (lattice::add_c). Sums start from -0.0, the exact identity of floating-point
+  // addition, so the first term needs no special case.
   template <int I, int A>
   static inline T add_c(T s, T v) {
-    constexpr double c = L::c[I][A];
-    if constexpr (c == 0.0) return s;
-    else if constexpr (c == 1.0) return s + v;
-    else if constexpr (c == -1.0) return s - v;
-    else return s + T(c) * v;
+    return lattice::add_c<L, I, A>(s, v);
   }
 
   template <int I>

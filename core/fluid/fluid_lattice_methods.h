@@ -7,6 +7,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "fluid/bgk_collision.h"
 #include "fluid/in_place_kernel.h"
@@ -407,10 +408,17 @@ template <class L, class T>
 inline DensityMomentum FluidLattice<L, T>::density_momentum_of(const std::array<T, L::Q>& g,
                                                               const RowPlan<T, L::Q>& plan) const {
   double drho = 0, j[3] = {0, 0, 0};
-  for (int i = 0; i < Q; ++i) {
-    drho += g[i];
-    for (int a = 0; a < 3; ++a) j[a] += L::c[i][a] * static_cast<double>(g[i]);
-  }
+  // Direction by direction at compile time, so that the zero velocity components cost nothing
+  // (lattice::add_c); the row observers below sum in the same order with the same operations.
+  [&]<int... I>(std::integer_sequence<int, I...>) {
+    ([&] {
+      const double v = static_cast<double>(g[I]);
+      drho += g[I];
+      j[0] = lattice::add_c<L, I, 0>(j[0], v);
+      j[1] = lattice::add_c<L, I, 1>(j[1], v);
+      j[2] = lattice::add_c<L, I, 2>(j[2], v);
+    }(), ...);
+  }(std::make_integer_sequence<int, Q>{});
   DensityMomentum m{config_.rho0 + drho, {0, 0, 0}};
   for (int a = 0; a < 3; ++a) m.momentum[a] = j[a] + (has_force_ ? 0.5 * plan.force[a] : 0.0);
   return m;
@@ -465,12 +473,18 @@ void FluidLattice<L, T>::for_each_interior_block(int y, int z, int first, int en
   const InteriorRow row = interior_row(y, z);
   const auto sums = [&](int x, int n, const auto& population) {
     double drho[kMomentBlock] = {}, j[A][kMomentBlock] = {};
-    for (int i = 0; i < Q; ++i)
-      for (int k = 0; k < n; ++k) {
-        const T g = population(i, x + k);
-        drho[k] += g;
-        for (int a = 0; a < A; ++a) j[a][k] += L::c[i][a] * static_cast<double>(g);
-      }
+    [&]<int... I>(std::integer_sequence<int, I...>) {
+      ([&] {
+        for (int k = 0; k < n; ++k) {
+          const T g = population(I, x + k);
+          const double v = static_cast<double>(g);
+          drho[k] += g;
+          if constexpr (A > 0) j[0][k] = lattice::add_c<L, I, 0>(j[0][k], v);
+          if constexpr (A > 1) j[1][k] = lattice::add_c<L, I, 1>(j[1][k], v);
+          if constexpr (A > 2) j[2][k] = lattice::add_c<L, I, 2>(j[2][k], v);
+        }
+      }(), ...);
+    }(std::make_integer_sequence<int, Q>{});
     visit(x, n, drho, j);
   };
   const auto stored = [&](int i, int x) { return row.from[i][x]; };

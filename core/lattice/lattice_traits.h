@@ -38,6 +38,19 @@ constexpr int mirrored(int i, int axis) {
   return -1;
 }
 
+// s + c_{I,A} v, with c = 0 and c = +-1 resolved at compile time: a compiler may not drop `x * 0`
+// itself (NaN * 0 is NaN), and on D3Q19 those products are most of a moment's arithmetic. For finite
+// v the result is that of s + c v (1 v and -1 v are exact, and adding a zero to a sum that started
+// from a zero or a number changes nothing).
+template <class L, int I, int A, class T>
+inline T add_c(T s, T v) {
+  constexpr double c = L::c[I][A];
+  if constexpr (c == 0.0) return s;
+  else if constexpr (c == 1.0) return s + v;
+  else if constexpr (c == -1.0) return s - v;
+  else return s + T(c) * v;
+}
+
 template <class L>
 constexpr std::array<int, L::Q> opposite_table() {
   std::array<int, L::Q> t{};
