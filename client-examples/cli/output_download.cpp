@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -18,6 +19,7 @@ using lbsolid::v1::OutputFile;
 
 constexpr int kAttempts = 5;  // a stream that breaks this often in one file is not transient
 constexpr double kDownloadSeconds = 3600;  // a whole file: 1 GB at 0.3 MB/s
+constexpr double kListingSeconds = 300;    // the least ListOutputs is given (see download_outputs)
 
 std::string local_sha256(const fs::path& path) {
   std::error_code missing;
@@ -73,7 +75,12 @@ std::vector<FileEntry> download_outputs(Daemon& daemon, const std::string& sessi
                                         bool with_checkpoints) {
   lbsolid::v1::ListOutputsRequest list;
   list.set_session_id(session_id);
-  const auto listed = daemon.call("ListOutputs", &Stub::ListOutputs, list);
+  // The daemon makes the files it lists from the run's logs first (an H5MD file of every frame, a
+  // field file of every snapshot: seconds per GB), which --timeout's default 30 s does not always
+  // cover: on a loaded machine a 300-step run of 60 bodies took longer. At least 300 s, as the
+  // Python client's Session.outputs() allows.
+  const auto listed = daemon.call("ListOutputs", &Stub::ListOutputs, list,
+                                  std::max(daemon.options().timeout_s, kListingSeconds));
   // Parts left by an earlier attempt that was killed (their process ids are not this one's).
   std::error_code ignored;
   for (const auto& entry : fs::recursive_directory_iterator(dir, ignored))

@@ -26,8 +26,14 @@ class Daemon {
   template <class Request, class Response>
   Response call(const char* rpc, grpc::Status (Stub::*method)(grpc::ClientContext*, const Request&, Response*),
                 const Request& request) {
+    return call(rpc, method, request, options_.timeout_s);
+  }
+  // The same with a deadline of its own, for a call whose work grows with the session's data.
+  template <class Request, class Response>
+  Response call(const char* rpc, grpc::Status (Stub::*method)(grpc::ClientContext*, const Request&, Response*),
+                const Request& request, double seconds) {
     grpc::ClientContext context;
-    set_deadline(context);
+    set_deadline(context, seconds);
     Response response;
     const grpc::Status status = (stub_.get()->*method)(&context, request, &response);
     if (!status.ok()) throw RpcError(rpc, status);
