@@ -3,7 +3,7 @@
 # then Debian's pvpython reads their particles.xdmf and fields.xdmf and compares what it gets with
 # the HDF5 files (paraview_xdmf_check.py).
 #   paraview_xdmf_test.sh LBSOLIDD LBSOLID SOURCE_DIR PVPYTHON
-# - Fig. 6's 60 chains, D2Q9 (2D: XY points, velocity_x and velocity_y, many bodies per step);
+# - Fig. 6's 60 chains, D2Q7 (2D: XY points, velocity_x and velocity_y, many bodies per step);
 # - the 3D sedimentation ball, D3Q19 (XYZ points, a velocity vector, a 3D grid).
 set -euo pipefail
 daemon=$1 cli=$2 source=$3 pvpython=$4
