@@ -11,10 +11,12 @@
 //                               per break at the step that broke it: particle, link, x, y, z)
 //   /observables/velocity_profile/{step, time, value [frame][ny]}; /observables/velocity_profile_y [ny]
 //   /parameters                 attr scenario (protobuf text of the lbsolid.v1.Scenario)
-// step and time are per-series datasets (time = step: lattice time). Series grow by one frame per
-// append (chunked, unlimited first dimension). The file is written as <path>.partial-<pid>-<n>, a
-// name of this writer's own, and renamed to <path> by close(), so an interrupted writer never
-// leaves a half file under the final name, and two writers of one path never share a file.
+// step and time are per-series datasets (time = step: lattice time). Series are chunked along an
+// unlimited first dimension; appended frames wait in memory until they fill a chunk (about 64 KiB,
+// or one frame if larger) and are written then, or by flush() or close(). The file is written as
+// <path>.partial-<pid>-<n>, a name of this writer's own, and renamed to <path> by close(), so an
+// interrupted writer never leaves a half file under the final name, and two writers of one path
+// never share a file.
 // With particles, close() then writes <stem>.xdmf beside it (xdmf_text.h: the particles as
 // Polyvertex grids for ParaView), through a temporary file and a rename.
 #include <array>

@@ -832,6 +832,41 @@ TEST(H5mdFile, AppearsUnderItsFinalNameOnlyWhenClosed) {
   EXPECT_THROW(writer.append_body("disk", 400, {0, 0, 0}, {0, 0, 0}), std::logic_error);
 }
 
+// Frames are written a chunk at a time (128 frames of a 2-vector, 4 of a 1,000-particle body): a
+// run longer than several chunks, flushed once in the middle of one, reads back frame for frame.
+TEST(H5mdFile, ManyFramesAcrossChunksAndAFlushReadBackExactly) {
+  TempDir dir;
+  const std::string path = dir.file("long.h5md");
+  constexpr int kLongFrames = 301, kFlushAt = 150, kBodyParticles = 1000;
+  {
+    H5mdWriter writer(path, "0.1.0", "scenario", kBox);
+    for (int f = 0; f < kLongFrames; ++f) {
+      if (f == kFlushAt) writer.flush();
+      std::vector<double> positions(2 * kBodyParticles), velocities(2 * kBodyParticles);
+      for (int i = 0; i < 2 * kBodyParticles; ++i) {
+        positions[i] = f + i / 4096.0;
+        velocities[i] = -positions[i];
+      }
+      writer.append_particles("sheet", 3 * f, positions, velocities);
+      writer.append_body("sheet", 3 * f, {f + 0.5, -0.25 * f, 0}, {0.125 * f, 1.0, 0});
+    }
+  }
+  const H5mdSeries centre = read_h5md_series(path, "/observables/sheet/centre_of_mass");
+  const H5mdSeries velocity = read_h5md_series(path, "/particles/sheet/velocity");
+  ASSERT_EQ(centre.step.size(), std::size_t{kLongFrames});
+  ASSERT_EQ(velocity.step.size(), std::size_t{kLongFrames});
+  ASSERT_EQ(velocity.value.size(), std::size_t{kLongFrames * 2 * kBodyParticles});
+  for (int f = 0; f < kLongFrames; ++f) {
+    EXPECT_EQ(centre.step[f], 3 * f);
+    EXPECT_EQ(centre.time[f], 3.0 * f);
+    EXPECT_EQ(velocity.step[f], 3 * f);
+    EXPECT_EQ(centre.value[2 * f], f + 0.5);
+    EXPECT_EQ(centre.value[2 * f + 1], -0.25 * f);
+    for (int i = 0; i < 2 * kBodyParticles; i += 333)
+      EXPECT_EQ(velocity.value[std::size_t(f) * 2 * kBodyParticles + i], -(f + i / 4096.0)) << f << " " << i;
+  }
+}
+
 // Two runs recording into one path at once (two `lbsolid submit --out` of one directory): each
 // writes a file of its own, and the path ends as one of them, whole, never a mix (with one shared
 // .partial name the second writer truncated the first's file under it).
