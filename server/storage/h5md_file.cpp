@@ -1,7 +1,8 @@
 // H5MD 1.1 writer (layout in h5md_file.h). Each time series is a group with three datasets that
 // grow together: step int64 [frame], time float64 [frame] and value float64 [frame][...], chunked
-// along the unlimited frame axis and written a chunk's worth of frames at a time. The file is opened with the 1.8
-// object format so the scenario text may exceed the 64 KiB attribute limit of the oldest format.
+// along the unlimited frame axis and written a chunk's worth of frames at a time. The file is
+// opened with the 1.8 object format so the scenario text may exceed the 64 KiB attribute limit of
+// the oldest format.
 #include "server/storage/h5md_file.h"
 
 #include <pwd.h>
