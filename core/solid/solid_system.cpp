@@ -47,6 +47,9 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
   }
   neighbours_.resize(mass_.size() * links_);
   place_links(body, neighbours_);
+  for (int p = first; p < first + n; ++p)
+    for (int k = 0; k < links_; ++k)
+      if (const int q = neighbours_[static_cast<std::size_t>(p) * links_ + k]; q >= 0) reach_ = std::max(reach_, std::abs(q - p));
   if (!anchored_.empty()) anchored_.resize(mass_.size(), 0);  // a later body starts unanchored
   // A rigid motion: every existing incoming link carries velocity/2. Link k arrives from l - c_k,
   // which exists exactly when link opp(k) of l does.

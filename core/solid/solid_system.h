@@ -20,6 +20,7 @@
 // 2T - D, and the body's momentum (eq. 8) is unchanged. The spring forces of the best fit have
 // no net torque, so without other forces sum_p r_p x Psi_p is kept to round-off
 // (solid/body_rotation.cpp; eq. 11 then holds with a D that follows the frame, not the placed Delta0).
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -193,8 +194,16 @@ class SolidSystem {
   double* incoming_at(int p, int k) { return &incoming_[(static_cast<std::size_t>(p) * links_ + k) * dim_]; }
   // Per dimension (Links = 4 or 6, Links / 2 components) so that the loops unroll and opp(k) is a
   // constant.
+  // Psi_p = sum_k of `vectors` at p's slots (incoming_, or outgoing_ before it is swapped in).
   template <int Links>
-  void update_momentum(int first, int end);
+  void sum_momentum(const std::vector<double>& vectors, int first, int end);
+  template <int Links>
+  void update_momentum(int first, int end) { sum_momentum<Links>(incoming_, first, end); }
+  template <int Links>
+  void sum_outgoing(int first, int end) { sum_momentum<Links>(outgoing_, first, end); }
+  // The stream's blocks: small enough that a block's outgoing vectors stay in the L1/L2 cache
+  // until stream() sums them reach_ later.
+  static constexpr int kStreamBlock = 256;
   template <int Links, bool kMayShed, class Force>
   void advance(const Force& force, int first, int end);
   template <class Range>
@@ -206,6 +215,9 @@ class SolidSystem {
   void place_links(int b, std::vector<int>& neighbours) const;
   // M = K/2 from the links p has now.
   double mass_from_links(const std::vector<int>& neighbours, int p) const;
+  // The largest |q - p| over the links placed (breaking links never raises it): a particle's
+  // senders are all within reach_ of it in index order (stream()).
+  int reach_ = 0;
   bool any_rotates_ = false;
   bool any_shed_ = false;  // some particle has M = 0 (a shed fragment)
   std::vector<BrokenLink> broken_;
@@ -221,15 +233,39 @@ void SolidSystem::for_parts(parallel::ThreadPool* pool, int parts, const Range& 
 
 template <class Force>
 void SolidSystem::stream(const Force& force, parallel::ThreadPool* pool, int parts) {
+  // Psi of a particle is the sum of what its neighbours send it, and they lie within reach_ of it
+  // in index order. So each part advances its particles a block at a time and, reach_ behind,
+  // sums the momenta whose senders are all done while their vectors are still in cache (instead of
+  // reading every vector again from memory after the step). Particles within reach_ of a part's
+  // ends have senders in the neighbouring part: they are summed once all parts are done. Every
+  // particle is summed exactly once, in link order, so the result is the same for any parts.
   const bool cubic = links_ == 6;
-  for_parts(pool, parts, [&](int first, int end) {
+  const auto sum = [&](int first, int end) {
+    if (first < end) cubic ? sum_outgoing<6>(first, end) : sum_outgoing<4>(first, end);
+  };
+  const auto advance_range = [&](int first, int end) {
     if (any_shed_) cubic ? advance<6, true>(force, first, end) : advance<4, true>(force, first, end);
     else cubic ? advance<6, false>(force, first, end) : advance<4, false>(force, first, end);
+  };
+  for_parts(pool, parts, [&](int first, int end) {
+    long summed = static_cast<long>(first) + reach_;  // the next particle to sum here
+    for (int block = first, block_end; block < end; block = block_end) {
+      block_end = block + std::min(kStreamBlock, end - block);
+      advance_range(block, block_end);
+      const long ready = static_cast<long>(block_end) - reach_;  // the senders of [summed, ready) are done
+      if (ready > summed) {
+        sum(static_cast<int>(summed), static_cast<int>(ready));
+        summed = ready;
+      }
+    }
+  });
+  for_parts(pool, parts, [&](int first, int end) {  // the ends of each part
+    const long interior_first = static_cast<long>(first) + reach_, interior_end = static_cast<long>(end) - reach_;
+    if (interior_first >= interior_end) return sum(first, end);
+    sum(first, static_cast<int>(interior_first));
+    sum(static_cast<int>(interior_end), end);
   });
   incoming_.swap(outgoing_);
-  for_parts(pool, parts, [&](int first, int end) {
-    cubic ? update_momentum<6>(first, end) : update_momentum<4>(first, end);
-  });
 }
 
 // Eq. 7 and the wave rule for particles [first, end): positions, and the vectors each sends.
@@ -260,10 +296,10 @@ void SolidSystem::advance(const Force& force, int first, int end) {
 }
 
 template <int Links>
-void SolidSystem::update_momentum(int first, int end) {
+void SolidSystem::sum_momentum(const std::vector<double>& vectors, int first, int end) {
   constexpr int D = Links / 2;
   for (int p = first; p < end; ++p) {
-    const double* in = &incoming_[static_cast<std::size_t>(p) * Links * D];
+    const double* in = &vectors[static_cast<std::size_t>(p) * Links * D];
     double psi[D] = {};
     for (int k = 0; k < Links; ++k)
       for (int a = 0; a < D; ++a) psi[a] += in[k * D + a];
