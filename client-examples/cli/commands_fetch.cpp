@@ -9,7 +9,7 @@
 #include "json_writer.h"
 #include "output_download.h"
 #include "rpc_client.h"
-#include "server/storage/field_snapshot.h"
+#include "io/storage/field_snapshot.h"
 
 namespace lbsolid::cli {
 

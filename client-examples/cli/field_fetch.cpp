@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "server/storage/field_snapshot.h"
+#include "io/storage/field_snapshot.h"
 
 namespace lbsolid::cli {
 namespace {

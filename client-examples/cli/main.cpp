@@ -12,7 +12,7 @@
 #include "cli_options.h"
 #include "commands.h"
 #include "result_writer.h"
-#include "server/version.h"
+#include "io/version.h"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <fstream>
 
 #include "exit_codes.h"
-#include "server/storage/sha256.h"
+#include "io/storage/sha256.h"
 
 namespace lbsolid::cli {
 namespace {

@@ -11,7 +11,7 @@
 #include <stdexcept>
 
 #include "json_writer.h"
-#include "server/storage/sha256.h"
+#include "io/storage/sha256.h"
 
 namespace lbsolid::cli {
 

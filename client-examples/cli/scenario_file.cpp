@@ -8,7 +8,7 @@
 
 #include "cli_error.h"
 #include "scenario_override.h"
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 
 namespace lbsolid::cli {
 

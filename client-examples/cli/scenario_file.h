@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "lbsolid/v1/scenario.pb.h"
-#include "server/recording/scenario_geometry.h"
+#include "io/recording/scenario_geometry.h"
 
 namespace lbsolid::cli {
 

@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "scene/scene.h"
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 #include "solid/body_shape.h"
 
 namespace lbsolid::drag {

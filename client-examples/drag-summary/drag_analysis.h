@@ -11,7 +11,7 @@
 
 #include "lbsolid/v1/scenario.pb.h"
 #include "observe/fits.h"
-#include "server/storage/h5md_file.h"
+#include "io/storage/h5md_file.h"
 
 namespace lbsolid::drag {
 

@@ -10,9 +10,9 @@
 #include "drag_analysis.h"
 #include "lbsolid/v1/scenario.pb.h"
 #include "scenario_attribute.h"
-#include "server/api/scenario_translation.h"
-#include "server/storage/h5md_file.h"
-#include "server/version.h"
+#include "io/api/scenario_translation.h"
+#include "io/storage/h5md_file.h"
+#include "io/version.h"
 #include "summary_report.h"
 
 namespace {

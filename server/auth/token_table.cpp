@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "absl/strings/str_cat.h"
-#include "server/storage/sha256.h"
+#include "io/storage/sha256.h"
 
 namespace lbsolid::server::auth {
 

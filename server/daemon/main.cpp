@@ -37,8 +37,8 @@
 #include "server/service/simulation_service.h"
 #include "server/session/session_manager.h"
 #include "server/session/thread_priority.h"
-#include "server/storage/file_replace.h"
-#include "server/version.h"
+#include "io/storage/file_replace.h"
+#include "io/version.h"
 
 namespace {
 

@@ -12,10 +12,10 @@
 #include <unistd.h>
 
 #include "absl/strings/str_cat.h"
-#include "server/api/error_summary.h"
-#include "server/api/log_text.h"
+#include "io/api/error_summary.h"
+#include "io/api/log_text.h"
 #include "server/auth/caller.h"
-#include "server/storage/sha256.h"
+#include "io/storage/sha256.h"
 
 namespace lbsolid::server {
 

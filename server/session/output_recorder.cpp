@@ -10,11 +10,11 @@
 
 #include "absl/strings/str_cat.h"
 #include "lbsolid/v1/simulation.pb.h"
-#include "server/recording/h5md_frames.h"
-#include "server/recording/scenario_geometry.h"
-#include "server/storage/field_snapshot.h"
-#include "server/storage/h5md_file.h"
-#include "server/storage/sha256.h"
+#include "io/recording/h5md_frames.h"
+#include "io/recording/scenario_geometry.h"
+#include "io/storage/field_snapshot.h"
+#include "io/storage/h5md_file.h"
+#include "io/storage/sha256.h"
 
 namespace lbsolid::server {
 

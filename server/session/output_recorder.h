@@ -15,8 +15,8 @@
 #include "absl/status/statusor.h"
 #include "lbsolid/v1/simulation.pb.h"
 #include "scene/simulation.h"
-#include "server/api/scenario_translation.h"
-#include "server/recording/frame_log.h"
+#include "io/api/scenario_translation.h"
+#include "io/recording/frame_log.h"
 
 namespace lbsolid::server {
 

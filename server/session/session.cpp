@@ -10,7 +10,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "scene/instability_error.h"
-#include "server/api/log_text.h"
+#include "io/api/log_text.h"
 
 namespace lbsolid::server {
 

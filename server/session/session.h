@@ -21,11 +21,11 @@
 #include "absl/status/statusor.h"
 #include "lbsolid/v1/simulation.pb.h"
 #include "scene/simulation.h"
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 #include "server/session/event_channel.h"
 #include "server/session/frame_channel.h"
 #include "server/session/output_recorder.h"
-#include "server/storage/checkpoint_file.h"
+#include "io/storage/checkpoint_file.h"
 
 namespace lbsolid::server {
 

@@ -8,8 +8,8 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
-#include "server/api/error_summary.h"
-#include "server/api/log_text.h"
+#include "io/api/error_summary.h"
+#include "io/api/log_text.h"
 #include "server/session/session_id.h"
 
 namespace lbsolid::server {

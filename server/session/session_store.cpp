@@ -10,9 +10,9 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "server/api/log_text.h"
+#include "io/api/log_text.h"
 #include "server/session/session_id.h"
-#include "server/storage/file_replace.h"
+#include "io/storage/file_replace.h"
 
 namespace lbsolid::server {
 

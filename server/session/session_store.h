@@ -13,7 +13,7 @@
 
 #include "absl/status/statusor.h"
 #include "server/session/session.h"
-#include "server/storage/checkpoint_file.h"
+#include "io/storage/checkpoint_file.h"
 
 namespace lbsolid::server {
 

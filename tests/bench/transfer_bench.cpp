@@ -14,7 +14,7 @@
 #include <iostream>
 #include <string>
 
-#include "server/storage/sha256.h"
+#include "io/storage/sha256.h"
 #include "service/daemon_process.h"
 #include "service/test_scenarios.h"
 

@@ -14,8 +14,8 @@
 #include <functional>
 #include <string>
 
-#include "server/api/error_summary.h"
-#include "server/api/scenario_translation.h"
+#include "io/api/error_summary.h"
+#include "io/api/scenario_translation.h"
 
 namespace {
 

@@ -21,7 +21,7 @@
 
 #include "scene/scene.h"
 #include "scene/simulation.h"
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 
 namespace {
 

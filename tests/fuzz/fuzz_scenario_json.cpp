@@ -1,6 +1,6 @@
 // libFuzzer target: JSON scenario files. Only inputs whose first non-blank character is '{' are
 // taken (the rest would go to the text-format parser, fuzz_scenario_text's job), so the effort goes
-// into the JSON path: the position-finding json::Locator (server/api/json_locator.h), protobuf's
+// into the JSON path: the position-finding json::Locator (io/api/json_locator.h), protobuf's
 // JsonStringToMessage, the error's field path; then scenario_checks.h. Seeds: the example
 // scenarios printed as JSON (tests/fuzz/make_seeds.cpp).
 #include <cstddef>

@@ -18,7 +18,7 @@
 
 #include "fuzz/service_calls.h"
 #include "lbsolid/v1/simulation.pb.h"
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 
 namespace {
 

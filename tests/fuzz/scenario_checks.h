@@ -22,7 +22,7 @@
 
 #include "scene/instability_error.h"
 #include "scene/simulation.h"
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 
 namespace lbsolid::fuzz {
 

@@ -19,10 +19,10 @@
 
 #include "scene/restart_support.h"
 #include "scene/simulation.h"
-#include "server/storage/checkpoint_file.h"
-#include "server/storage/checkpoint_layout.h"
-#include "server/storage/checkpoint_validation.h"
-#include "server/storage/hdf5_io.h"
+#include "io/storage/checkpoint_file.h"
+#include "io/storage/checkpoint_layout.h"
+#include "io/storage/checkpoint_validation.h"
+#include "io/storage/hdf5_io.h"
 
 namespace lbsolid::server::storage {
 namespace {

@@ -20,7 +20,7 @@
 #include "json_writer.h"
 #include "progress_bar.h"
 #include "result_writer.h"
-#include "server/storage/sha256.h"
+#include "io/storage/sha256.h"
 
 namespace lbsolid::cli {
 namespace {

@@ -3,7 +3,7 @@
 // or by the core, comes back together with the others and with the field's full proto path.
 // Scenario files parse (text or JSON, errors with line and column), and every file shipped in
 // client-examples/scenarios translates cleanly and runs.
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 
 #include <google/protobuf/util/message_differencer.h>
 #include <gtest/gtest.h>
@@ -15,9 +15,9 @@
 #include <sstream>
 
 #include "scene/simulation.h"
-#include "server/api/core_field_paths.h"
-#include "server/api/error_summary.h"
-#include "server/api/log_text.h"
+#include "io/api/core_field_paths.h"
+#include "io/api/error_summary.h"
+#include "io/api/log_text.h"
 
 namespace lbsolid::server {
 namespace {

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "scene/simulation.h"
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 #include "server/session/footprint.h"
 #include "server/session/session_manager.h"
 #include "service/test_scenarios.h"

@@ -29,12 +29,12 @@
 
 #include "scene/restart_support.h"
 #include "scene/simulation.h"
-#include "server/storage/checkpoint_file.h"
-#include "server/storage/checkpoint_layout.h"
-#include "server/storage/field_snapshot.h"
-#include "server/storage/file_replace.h"
-#include "server/storage/h5md_file.h"
-#include "server/storage/hdf5_io.h"
+#include "io/storage/checkpoint_file.h"
+#include "io/storage/checkpoint_layout.h"
+#include "io/storage/field_snapshot.h"
+#include "io/storage/file_replace.h"
+#include "io/storage/h5md_file.h"
+#include "io/storage/hdf5_io.h"
 
 namespace lbsolid::server::storage {
 namespace {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 
 namespace lbsolid::server::testing {
 

@@ -8,7 +8,7 @@
 #include <functional>
 #include <limits>
 
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 #include "service/daemon_process.h"
 #include "service/test_scenarios.h"
 

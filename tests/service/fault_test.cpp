@@ -12,7 +12,7 @@
 #include <thread>
 #include <tuple>
 
-#include "server/storage/checkpoint_file.h"
+#include "io/storage/checkpoint_file.h"
 #include "service/daemon_process.h"
 #include "service/test_scenarios.h"
 

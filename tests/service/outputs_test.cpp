@@ -10,8 +10,8 @@
 #include <thread>
 
 #include "scene/simulation.h"
-#include "server/api/scenario_translation.h"
-#include "server/storage/h5md_file.h"
+#include "io/api/scenario_translation.h"
+#include "io/storage/h5md_file.h"
 #include "service/coreutils_sha256.h"
 #include "service/daemon_process.h"
 #include "service/test_scenarios.h"

@@ -8,7 +8,7 @@
 #include "google/protobuf/descriptor.pb.h"
 #include "reflection.grpc.pb.h"
 #include "scene/simulation.h"
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 #include "service/daemon_process.h"
 #include "service/test_scenarios.h"
 

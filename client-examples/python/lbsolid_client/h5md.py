@@ -1,4 +1,4 @@
-"""Frames read back from a particles.h5 the daemon recorded (H5MD, server/storage/h5md_file.h):
+"""Frames read back from a particles.h5 the daemon recorded (H5MD, io/storage/h5md_file.h):
 the velocity profile series and each body's particles, mean motion, rotation and broken links."""
 import h5py
 import numpy as np

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "server/api/log_text.h"
+#include "io/api/log_text.h"
 
 namespace lbsolid::server {
 

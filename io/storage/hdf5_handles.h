@@ -1,6 +1,6 @@
 #pragma once
 // Owning wrappers for HDF5 identifiers (hid_t) and the conversion of HDF5 failures into
-// std::runtime_error. Private to server/storage: the public headers never expose hdf5.h.
+// std::runtime_error. Private to io/storage: the public headers never expose hdf5.h.
 #include <hdf5.h>
 
 #include <stdexcept>

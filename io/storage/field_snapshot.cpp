@@ -2,9 +2,9 @@
 // [nz][ny][nx][3]} float64, each step group with attrs step (int64), origin and spacing (float64
 // [3], x y z). Zero-padded names sort by step, so the XDMF lists the snapshots in time order, and
 // the XDMF is rebuilt from the file alone (the groups carry everything it needs).
-#include "server/storage/field_snapshot.h"
+#include "io/storage/field_snapshot.h"
 
-#include "server/storage/xdmf_text.h"
+#include "io/storage/xdmf_text.h"
 
 #include <charconv>
 #include <cstdio>
@@ -12,9 +12,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "server/storage/file_replace.h"
-#include "server/storage/hdf5_handles.h"
-#include "server/storage/hdf5_io.h"
+#include "io/storage/file_replace.h"
+#include "io/storage/hdf5_handles.h"
+#include "io/storage/hdf5_io.h"
 
 namespace lbsolid::server::storage {
 namespace {

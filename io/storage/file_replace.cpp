@@ -1,4 +1,4 @@
-#include "server/storage/file_replace.h"
+#include "io/storage/file_replace.h"
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -1,12 +1,12 @@
 // A checkpoint is checked (checkpoint_validation.h), written in its layout (checkpoint_layout.h)
 // into a temporary file of its own, and renamed over the target; reading verifies every checksum
 // and checks the contents again.
-#include "server/storage/checkpoint_file.h"
+#include "io/storage/checkpoint_file.h"
 
-#include "server/storage/checkpoint_layout.h"
-#include "server/storage/checkpoint_validation.h"
-#include "server/storage/file_replace.h"
-#include "server/storage/hdf5_handles.h"
+#include "io/storage/checkpoint_layout.h"
+#include "io/storage/checkpoint_validation.h"
+#include "io/storage/file_replace.h"
+#include "io/storage/hdf5_handles.h"
 
 namespace lbsolid::server::storage {
 

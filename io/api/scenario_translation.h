@@ -10,7 +10,7 @@
 
 #include "lbsolid/v1/scenario.pb.h"
 #include "scene/scene.h"
-#include "server/api/error_summary.h"
+#include "io/api/error_summary.h"
 
 namespace lbsolid::server {
 
@@ -29,7 +29,7 @@ struct TranslatedScenario {
   scene::Scene scene;
   OutputPlan outputs;
   // Every problem, empty when the scene can be built; a client is sent error_summary(errors)
-  // (server/api/error_summary.h), which fits in a gRPC status however many there are.
+  // (io/api/error_summary.h), which fits in a gRPC status however many there are.
   std::vector<std::string> errors;
   std::vector<std::string> warnings;  // parameters near the edge of stability, "<path>: <reason>"
   bool ok() const { return errors.empty(); }

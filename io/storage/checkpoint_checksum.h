@@ -7,7 +7,7 @@
 //                     groups exist, and each dataset's checksum (root_checksum), so a changed
 //                     attribute, a lost group or a swapped dataset is caught too.
 // Values are hashed as read (converted to native numbers), so a damaged stored type cannot pass.
-// Private to server/storage.
+// Private to io/storage.
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "server/storage/checkpoint_file.h"
+#include "io/storage/checkpoint_file.h"
 
 namespace lbsolid::server::storage {
 

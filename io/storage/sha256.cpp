@@ -1,4 +1,4 @@
-#include "server/storage/sha256.h"
+#include "io/storage/sha256.h"
 
 #include <cerrno>
 #include <cstring>

@@ -4,7 +4,7 @@
 #include <array>
 
 #include "lbsolid/v1/scenario.pb.h"
-#include "server/storage/h5md_file.h"
+#include "io/storage/h5md_file.h"
 
 namespace lbsolid::server::recording {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "server/storage/hdf5_handles.h"
+#include "io/storage/hdf5_handles.h"
 
 namespace lbsolid::server::storage::h5 {
 

@@ -1,6 +1,6 @@
-#include "server/recording/scenario_geometry.h"
+#include "io/recording/scenario_geometry.h"
 
-#include "server/api/enum_mapping.h"
+#include "io/api/enum_mapping.h"
 
 namespace lbsolid::server::recording {
 namespace {

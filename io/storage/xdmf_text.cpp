@@ -1,4 +1,4 @@
-#include "server/storage/xdmf_text.h"
+#include "io/storage/xdmf_text.h"
 
 #include <filesystem>
 #include <set>

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "scene/simulation.h"
-#include "server/storage/xdmf_text.h"  // xdmf_path_for
+#include "io/storage/xdmf_text.h"  // xdmf_path_for
 
 namespace lbsolid::server::storage {
 

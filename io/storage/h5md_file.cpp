@@ -3,7 +3,7 @@
 // along the unlimited frame axis and written a chunk's worth of frames at a time. The file is
 // opened with the 1.8 object format so the scenario text may exceed the 64 KiB attribute limit of
 // the oldest format.
-#include "server/storage/h5md_file.h"
+#include "io/storage/h5md_file.h"
 
 #include <pwd.h>
 #include <unistd.h>
@@ -15,10 +15,10 @@
 #include <map>
 #include <stdexcept>
 
-#include "server/storage/file_replace.h"
-#include "server/storage/hdf5_handles.h"
-#include "server/storage/hdf5_io.h"
-#include "server/storage/xdmf_text.h"
+#include "io/storage/file_replace.h"
+#include "io/storage/hdf5_handles.h"
+#include "io/storage/hdf5_io.h"
+#include "io/storage/xdmf_text.h"
 
 namespace lbsolid::server::storage {
 namespace {

@@ -14,11 +14,11 @@
 //   /solid/shed_momentum (a particle was shed) float64 [bodies][3]; attr sha256
 // Booleans are int32 0/1. Strings are fixed-length and exact (hdf5_io.h). Objects use the HDF5 1.8
 // format, whose headers carry HDF5's own checksums.
-// Private to server/storage: no plausibility checks (checkpoint_validation.h) and no temporary
+// Private to io/storage: no plausibility checks (checkpoint_validation.h) and no temporary
 // file (checkpoint_file.cpp) here, so tests can write files the public writer refuses.
 #include <string>
 
-#include "server/storage/checkpoint_file.h"
+#include "io/storage/checkpoint_file.h"
 
 namespace lbsolid::server::storage {
 

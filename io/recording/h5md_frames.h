@@ -4,7 +4,7 @@
 // profile. The daemon's recording and the CLI's write particles.h5 through these, so both files
 // have one layout.
 #include "lbsolid/v1/simulation.pb.h"
-#include "server/storage/h5md_file.h"
+#include "io/storage/h5md_file.h"
 
 namespace lbsolid::server::recording {
 

@@ -1,4 +1,4 @@
-#include "server/storage/checkpoint_validation.h"
+#include "io/storage/checkpoint_validation.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "server/recording/frame_log.h"
+#include "io/recording/frame_log.h"
 
 #include <fcntl.h>
 #include <unistd.h>

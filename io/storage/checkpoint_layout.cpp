@@ -1,4 +1,4 @@
-#include "server/storage/checkpoint_layout.h"
+#include "io/storage/checkpoint_layout.h"
 
 #include <cmath>
 #include <cstdint>
@@ -7,9 +7,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "server/storage/checkpoint_checksum.h"
-#include "server/storage/hdf5_handles.h"
-#include "server/storage/hdf5_io.h"
+#include "io/storage/checkpoint_checksum.h"
+#include "io/storage/hdf5_handles.h"
+#include "io/storage/hdf5_io.h"
 
 namespace lbsolid::server::storage {
 namespace {

@@ -8,7 +8,7 @@
 // (error_summary.h says how many of them it is sent). Every pass is linear or n log n in the
 // number of bodies and problems (hash sets, never a pass over the others per item): 10^5 bodies
 // once took minutes. tests/bench/translation_bench.cpp measures it.
-#include "server/api/scenario_translation.h"
+#include "io/api/scenario_translation.h"
 
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
@@ -22,9 +22,9 @@
 #include <string_view>
 #include <unordered_set>
 
-#include "server/api/core_field_paths.h"
-#include "server/api/enum_mapping.h"
-#include "server/api/json_locator.h"
+#include "io/api/core_field_paths.h"
+#include "io/api/enum_mapping.h"
+#include "io/api/json_locator.h"
 
 namespace lbsolid::server {
 namespace {

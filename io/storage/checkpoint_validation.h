@@ -1,8 +1,8 @@
 #pragma once
 // What a checkpoint must hold to be a state a run can continue from, checked before a checkpoint
 // is written (a bad state never replaces a good file) and after one is read (the checksums say the
-// file holds what was written; this says what was written is possible). Private to server/storage.
-#include "server/storage/checkpoint_file.h"
+// file holds what was written; this says what was written is possible). Private to io/storage.
+#include "io/storage/checkpoint_file.h"
 
 namespace lbsolid::server::storage {
 

@@ -1,4 +1,4 @@
-#include "server/recording/h5md_frames.h"
+#include "io/recording/h5md_frames.h"
 
 #include <array>
 #include <vector>

@@ -1,8 +1,8 @@
-#include "server/storage/checkpoint_checksum.h"
+#include "io/storage/checkpoint_checksum.h"
 
 #include <bit>
 
-#include "server/storage/sha256.h"
+#include "io/storage/sha256.h"
 
 namespace lbsolid::server::storage {
 namespace {

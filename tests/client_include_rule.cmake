@@ -1,0 +1,21 @@
+# The clients (client-examples/) build on the formats they share with the daemon (io/) and never on
+# the daemon's own code (server/): fails naming every file that includes a server/ header.
+#   cmake -DSOURCE_DIR=<repository> -P client_include_rule.cmake
+file(GLOB_RECURSE sources "${SOURCE_DIR}/client-examples/*.cpp" "${SOURCE_DIR}/client-examples/*.h")
+set(offenders)
+foreach(source IN LISTS sources)
+  file(STRINGS "${source}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*[\"<]server/")
+  if(includes)
+    file(RELATIVE_PATH name "${SOURCE_DIR}" "${source}")
+    list(APPEND offenders "${name}: ${includes}")
+  endif()
+endforeach()
+list(LENGTH sources scanned)
+if(scanned EQUAL 0)
+  message(FATAL_ERROR "no client sources found under ${SOURCE_DIR}/client-examples")
+endif()
+if(offenders)
+  list(JOIN offenders "\n  " text)
+  message(FATAL_ERROR "client code includes daemon headers (use io/):\n  ${text}")
+endif()
+message(STATUS "${scanned} client sources, none includes a server/ header")
