@@ -8,7 +8,9 @@
 // Then the scene benchmarks (bench/scene_bench.h): the builder's overhead on a fluid-only scene,
 // a solid-only scene's memory, and coupled steps at 0.1 and 1 particle per cell, with one thread
 // and, with --threads N, with N fluid threads too (and the speed-up).
-//   lbsolid-bench [--json] [--quick] [--threads N] [--scenes-only]
+//   lbsolid-bench [--json] [--quick] [--threads N] [--scenes-only | --kernels-only]
+// (--kernels-only: the fluid kernels alone, e.g. to hold a portable build against a native one:
+// tests/bench/portable_vs_native.sh)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -96,17 +98,22 @@ Row measure(std::size_t working_set, int threads, fluid::StreamingScheme streami
 int main(int argc, char** argv) {
   using namespace lbsolid;
   using namespace lbsolid::bench;
-  bool json = false, quick = false, scenes_only = false;
+  bool json = false, quick = false, scenes_only = false, kernels_only = false;
   int all = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (int k = 1; k < argc; ++k) {
     if (!std::strcmp(argv[k], "--json")) json = true;
     else if (!std::strcmp(argv[k], "--quick")) quick = true;
     else if (!std::strcmp(argv[k], "--scenes-only")) scenes_only = true;
+    else if (!std::strcmp(argv[k], "--kernels-only")) kernels_only = true;
     else if (!std::strcmp(argv[k], "--threads") && k + 1 < argc) all = std::max(1, std::atoi(argv[++k]));
     else {
-      std::fprintf(stderr, "usage: lbsolid-bench [--json] [--quick] [--threads N] [--scenes-only]\n");
+      std::fprintf(stderr, "usage: lbsolid-bench [--json] [--quick] [--threads N] [--scenes-only | --kernels-only]\n");
       return 2;
     }
+  }
+  if (scenes_only && kernels_only) {
+    std::fprintf(stderr, "lbsolid-bench: --scenes-only and --kernels-only leave nothing to run\n");
+    return 2;
   }
   if (const std::string error = fluid::kernel_isa_environment_error(); !error.empty()) {
     std::fprintf(stderr, "lbsolid-bench: %s\n", error.c_str());
@@ -153,7 +160,7 @@ int main(int argc, char** argv) {
 
   // The operators against each other, where the arithmetic differs most (D3Q19) and least (D2Q9).
   std::vector<Row> collision_rows;
-  if (!scenes_only) {
+  if (!scenes_only && !kernels_only) {
     constexpr auto kInPlace = fluid::StreamingScheme::kInPlace;
     for (auto model : {fluid::CollisionModel::kBgk, fluid::CollisionModel::kTrt, fluid::CollisionModel::kRegularized}) {
       collision_rows.push_back(measure<lattice::D2Q9, double>(working_set, 1, kInPlace, min_seconds, model));
@@ -162,7 +169,7 @@ int main(int argc, char** argv) {
   }
 
   std::vector<SceneRow> scene_rows;
-  for (int threads : thread_counts)
+  for (int threads : kernels_only ? std::vector<int>{} : thread_counts)
     for (SceneRow& row : run_scene_benchmarks(quick, threads)) scene_rows.push_back(std::move(row));
   if (json) {
     std::printf("{\n  \"kernel_isa\": \"%s\",\n  \"last_level_cache_bytes\": %zu,\n  \"working_set_bytes\": %zu,\n  \"results\": [\n",
@@ -209,6 +216,7 @@ int main(int argc, char** argv) {
       break;
     }
   }
+  if (kernels_only) return 0;
   std::printf("\ncollision operators (in place, one thread; MLUPS relative to BGK on the same lattice)\n");
   std::printf("%-6s %-7s %-12s %10s %9s %8s\n", "lattice", "prec", "collision", "cells", "MLUPS", "vs BGK");
   for (const Row& r : collision_rows) {
