@@ -25,7 +25,6 @@ void MomentumExchange::Slots::resize(std::size_t n) {
   node.resize(n);
   mass.resize(n);
   momentum.resize(n);
-  fluid.resize(n);
   velocity.resize(n);
   gained.resize(n);
   anchors.resize(n);
@@ -35,8 +34,7 @@ void MomentumExchange::Slots::resize(std::size_t n) {
 std::size_t MomentumExchange::Slots::bytes_allocated() const {
   return node.capacity() * sizeof(Node) + mass.capacity() * sizeof(double) +
          (momentum.capacity() + velocity.capacity() + gained.capacity() + anchor_share.capacity()) * sizeof(fluid::Vec3) +
-         anchors.capacity() * sizeof(std::uint32_t) +
-         fluid.capacity() * sizeof(fluid::DensityMomentum);
+         anchors.capacity() * sizeof(std::uint32_t) + pairwise_rho.capacity() * sizeof(double);
 }
 
 std::size_t MomentumExchange::bytes_allocated() const {
@@ -74,6 +72,8 @@ void MomentumExchange::cut_parts(int parts, parallel::ThreadPool* pool) {
     slots += part.count;
   }
   if (slots_.size() < slots) slots_.resize(slots);
+  if (rule_ == ExchangeRule::kPairwise && static_cast<long>(slots_.pairwise_rho.size()) < slots)
+    slots_.pairwise_rho.resize(slots);
 }
 
 void MomentumExchange::mark_cells(Part& part) {
@@ -161,10 +161,9 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   else with_anchors(std::integral_constant<int, 3>{});
 }
 
-void MomentumExchange::node_velocities(const Part& part, const std::vector<double>& mass,
-                                       const solid::ParticleVectors& momentum) {
-  for (long s = part.base; s < part.base + part.count; ++s) {
-    const fluid::DensityMomentum& f = slots_.fluid[s];
+void MomentumExchange::node_velocities(long first, long count, const fluid::DensityMomentum* read) {
+  for (long s = first; s < first + count; ++s) {
+    const fluid::DensityMomentum& f = read[s - first];
     fluid::Vec3& u = slots_.velocity[s];
     if (slots_.anchors[s] > 0) {  // held still: everything here comes to rest on the anchors
       const double share = 1.0 / slots_.anchors[s];
@@ -182,15 +181,19 @@ void MomentumExchange::node_velocities(const Part& part, const std::vector<doubl
     } else {
       for (int a = 0; a < 3; ++a) u[a] = f.momentum[a] / f.rho;
       slots_.gained[s] = {0, 0, 0};
+      slots_.pairwise_rho[s] = f.rho;
     }
   }
-  if (rule_ == ExchangeRule::kCommonVelocity) return;
+}
+
+void MomentumExchange::pairwise_gains(const Part& part, const std::vector<double>& mass,
+                                      const solid::ParticleVectors& momentum) {
   // Eq. 14 per particle: its dP depends on its own mass, so the node's gain is their sum.
   for (long p = 0; p < static_cast<long>(cell_.size()); ++p) {
     const CellIndex c = cell_[p];
     if (c < part.first_cell || c >= part.end_cell) continue;
     const long s = slot_of_cell_[c];
-    const double z = 1.0 / (1.0 / slots_.fluid[s].rho + 1.0 / mass[p]);
+    const double z = 1.0 / (1.0 / slots_.pairwise_rho[s] + 1.0 / mass[p]);
     const fluid::Vec3 momentum_p = momentum[p];
     for (int a = 0; a < 3; ++a) {
       pairwise_dp_[p][a] = z * (momentum_p[a] / mass[p] - slots_.velocity[s][a]);

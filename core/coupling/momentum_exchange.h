@@ -12,11 +12,12 @@
 // cells into parts (ranges of about equal particle counts, from the last exchange's counts); each
 // part walks all particles in index order, marks the cells in its range in a bitmap, lists them
 // in cell order (so that the fluid is read, and later written, in the order it is stored), walks
-// the particles again summing those in its range per node, reads its nodes' fluid in one batch and works out each node's
-// velocity u* and what its fluid gains. A node's particles are thus summed in index order
-// whatever the number of parts: the result is the same bit for bit. particle_dp() then gives
-// each particle its dP from its node's u* while the solid steps, and inject() gives the fluid
-// its momentum after the fluid's step. No particle is sorted or moved.
+// the particles again summing those in its range per node, reads its nodes' fluid in batches of
+// kReadChunk nodes and works out each node's velocity u* and what its fluid gains. A node's
+// particles are thus summed in index order whatever the number of parts: the result is the same
+// bit for bit. particle_dp() then gives each particle its dP from its node's u* while the solid
+// steps, and inject() gives the fluid its momentum after the fluid's step. No particle is sorted
+// or moved.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -84,14 +85,17 @@ class MomentumExchange {
   std::size_t bytes_allocated() const;
 
  private:
+  // Nodes whose fluid is read in one batch: 512 x 32 B stays in the L1 cache until it is used.
+  static constexpr long kReadChunk = 512;
   // Every listed node, slot by slot (part k's from base[k] on): the node, the total mass and
-  // momentum of its particles, the fluid read there, the velocity its particles are
-  // compared with (u*, or the fluid's u for the pairwise rule), and what its fluid gains.
+  // momentum of its particles, the velocity its particles are compared with (u*, or the fluid's u
+  // for the pairwise rule), and what its fluid gains. The fluid read there is used as it is read,
+  // not kept (but for its density under the pairwise rule).
   struct Slots {
     std::vector<Node> node;
     std::vector<double> mass;
     std::vector<fluid::Vec3> momentum;
-    std::vector<fluid::DensityMomentum> fluid;
+    std::vector<double> pairwise_rho;  // the pairwise rule only
     std::vector<fluid::Vec3> velocity;
     std::vector<fluid::Vec3> gained;
     std::vector<std::uint32_t> anchors;      // anchored particles at the node
@@ -113,8 +117,11 @@ class MomentumExchange {
   // momentum of their particles.
   void list_nodes(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum,
                   const std::vector<char>* anchored);
-  // Each listed node's comparison velocity and gain, once its fluid is read.
-  void node_velocities(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum);
+  // The comparison velocity and gain of the `count` nodes listed from slot `first` on, given
+  // their fluid as read (`read[k]` for slot first + k).
+  void node_velocities(long first, long count, const fluid::DensityMomentum* read);
+  // The pairwise rule: each particle's dP (eq. 14) and its node's gain, their sum.
+  void pairwise_gains(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum);
   // work(k) for every part k, on the pool when there are several.
   template <class Work>
   void for_parts(parallel::ThreadPool* pool, const Work& work) const;
@@ -165,9 +172,14 @@ void MomentumExchange::compute(const std::vector<double>& mass, const solid::Par
   for_parts(pool, [&](int k) {
     const Part& part = parts_[k];
     list_nodes(part, mass, momentum, anchored);
-    if (part.count == 0) return;
-    fluid.gather_momenta(slots_.node.data() + part.base, part.count, slots_.fluid.data() + part.base);
-    node_velocities(part, mass, momentum);
+    // The fluid read a chunk at a time into a buffer that stays in cache, and used at once.
+    fluid::DensityMomentum read[kReadChunk];
+    for (long first = part.base; first < part.base + part.count; first += kReadChunk) {
+      const long count = std::min(kReadChunk, part.base + part.count - first);
+      fluid.gather_momenta(slots_.node.data() + first, count, read);
+      node_velocities(first, count, read);
+    }
+    if (rule_ == ExchangeRule::kPairwise) pairwise_gains(part, mass, momentum);
   });
 }
 
