@@ -55,6 +55,9 @@ class MomentumExchange {
   // ranges on `pool` (cell_of must allow that).
   template <class CellOf>
   void locate(long n, const CellOf& cell_of, parallel::ThreadPool* pool = nullptr, int parts = 1);
+  // The same, a range at a time: fill(first, end, cells) writes cells[p] for p in [first, end).
+  template <class Fill>
+  void locate_ranges(long n, const Fill& fill, parallel::ThreadPool* pool = nullptr, int parts = 1);
   // The exchange of the located particles, `mass[p]` and `momentum[p]` describing particle p;
   // `fluid` answers gather_momenta(nodes, count, out) with the pre-collision density and momentum
   // of each node (FluidLattice's batched call; with a pool, from several threads at once).
@@ -154,10 +157,18 @@ void MomentumExchange::for_parts(parallel::ThreadPool* pool, const Work& work) c
 
 template <class CellOf>
 void MomentumExchange::locate(long n, const CellOf& cell_of, parallel::ThreadPool* pool, int parts) {
+  locate_ranges(
+      n,
+      [&](long first, long end, CellIndex* cells) {
+        for (long p = first; p < end; ++p) cells[p] = cell_of(p);
+      },
+      pool, parts);
+}
+
+template <class Fill>
+void MomentumExchange::locate_ranges(long n, const Fill& fill, parallel::ThreadPool* pool, int parts) {
   cell_.resize(n);
-  const auto run = [&](long first, long end) {
-    for (long p = first; p < end; ++p) cell_[p] = cell_of(p);
-  };
+  const auto run = [&](long first, long end) { fill(first, end, cell_.data()); };
   if (pool && parts > 1) pool->parallel_for(n, parts, run);
   else run(0, n);
 }

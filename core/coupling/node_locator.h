@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 
 #include "fluid/fluid_config.h"
 
@@ -60,6 +61,11 @@ class NodeLocator {
   long cell(const Node& node) const {
     return node[0] + static_cast<long>(n_[0]) * (node[1] + static_cast<long>(n_[1]) * node[2]);
   }
+
+  // cells[p] = cell(nearest(r_p)) for p in [first, end), r_p the L::D doubles at positions + L::D p:
+  // the same nodes as nearest(), worked out in doubles so that the loop vectorises
+  // (node_locator.cpp; 3-4x faster per particle with AVX2 or AVX-512).
+  void nearest_cells(const double* positions, long first, long end, std::uint32_t* cells) const;
 
  private:
   // 2^40 leaves the rounding exact (a double's step there is 2^-12) and i % n free of overflow.

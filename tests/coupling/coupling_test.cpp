@@ -2,14 +2,18 @@
 // common-velocity exchange, and conservation of fluid plus solid momentum in a periodic box.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
+#include <cstdint>
 #include <cmath>
 #include <iterator>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "coupling/momentum_exchange.h"
 #include "coupling/node_locator.h"
+#include "fluid/kernel_isa.h"
 #include "fluid/fluid_test_support.h"
 #include "lattice/d2q7.h"
 #include "lattice/d2q9.h"
@@ -31,35 +35,95 @@ fluid::FluidConfig box(int nx, int ny, int nz, bool walls) {
   return c;
 }
 
-// The nearest node found must be at least as near as every node of the grid (brute force).
+// The nearest node found must be at least as near as every node of the grid (brute force), both
+// by nearest() and by the vectorised nearest_cells(), which must also break ties alike (the runs
+// would otherwise change). Walled axes are sampled inside the box, where "nearest" is the
+// geometric question; beyond a wall both clamp (NearestIsANodeForAnyDouble).
 template <class L>
 void check_nearest(const fluid::FluidConfig& c) {
   NodeLocator<L> locator(c);
   std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> ux(-3, c.nx + 3), uy(-3, (c.ny + 3) * L::row_spacing);
-  const double width[2] = {static_cast<double>(c.nx), c.ny * L::row_spacing};
-  const bool periodic_y = c.sides[fluid::kYLow].kind == fluid::WallKind::kPeriodic;
-  for (int trial = 0; trial < 2000; ++trial) {
-    Vec3 r{ux(rng), uy(rng), 0};
-    if (!periodic_y) r[1] = std::clamp(r[1], 0.0, (c.ny - 1) * L::row_spacing);
-    const Node found = locator.nearest(r);
-    auto distance2 = [&](int x, int y) {
-      const Vec3 q = fluid::FluidLattice<L, double>::position(x, y);
-      double dx = std::remainder(q[0] - r[0], width[0]);
-      double dy = periodic_y ? std::remainder(q[1] - r[1], width[1]) : q[1] - r[1];
-      return dx * dx + dy * dy;
+  const int n[3] = {c.nx, c.ny, c.nz};
+  const double spacing[3] = {1.0, L::row_spacing, 1.0};
+  bool periodic[3];
+  for (int a = 0; a < 3; ++a) periodic[a] = c.sides[2 * a].kind == fluid::WallKind::kPeriodic;
+  constexpr long kTrials = 2000;
+  std::vector<double> positions;
+  for (long trial = 0; trial < kTrials; ++trial)
+    for (int a = 0; a < L::D; ++a) {
+      const double width = n[a] * spacing[a];
+      double v = std::uniform_real_distribution<double>(-3, width + 3)(rng);
+      if (!periodic[a]) v = std::clamp(v, 0.0, (n[a] - 1) * spacing[a]);
+      positions.push_back(v);
+    }
+  std::vector<std::uint32_t> cells(kTrials);
+  const long split = 777;  // two ranges: the second starts mid-array
+  locator.nearest_cells(positions.data(), 0, split, cells.data());
+  locator.nearest_cells(positions.data(), split, kTrials, cells.data());
+  for (long trial = 0; trial < kTrials; ++trial) {
+    const double* p = &positions[L::D * trial];
+    const Vec3 r{p[0], p[1], L::D == 3 ? p[2] : 0.0};
+    auto distance2 = [&](int x, int y, int z) {
+      const Vec3 q = fluid::FluidLattice<L, double>::position(x, y, z);
+      double d2 = 0;
+      for (int a = 0; a < L::D; ++a) {
+        const double d = periodic[a] ? std::remainder(q[a] - r[a], n[a] * spacing[a]) : q[a] - r[a];
+        d2 += d * d;
+      }
+      return d2;
     };
     double best = INFINITY;
-    for (int y = 0; y < c.ny; ++y)
-      for (int x = 0; x < c.nx; ++x) best = std::min(best, distance2(x, y));
-    ASSERT_NEAR(distance2(found[0], found[1]), best, 1e-12) << "position " << r[0] << ", " << r[1];
+    for (int z = 0; z < c.nz; ++z)
+      for (int y = 0; y < c.ny; ++y)
+        for (int x = 0; x < c.nx; ++x) best = std::min(best, distance2(x, y, z));
+    const std::string at = "position " + std::to_string(r[0]) + ", " + std::to_string(r[1]) + ", " + std::to_string(r[2]);
+    const Node found = locator.nearest(r);
+    ASSERT_NEAR(distance2(found[0], found[1], found[2]), best, 1e-12) << at;
+    const long cell = cells[trial];
+    const int x = static_cast<int>(cell % c.nx), y = static_cast<int>(cell / c.nx % c.ny),
+              z = static_cast<int>(cell / (static_cast<long>(c.nx) * c.ny));
+    ASSERT_LT(z, c.nz) << at;
+    ASSERT_NEAR(distance2(x, y, z), best, 1e-12) << "nearest_cells, " << at;
+    ASSERT_EQ(cell, locator.cell(found)) << "nearest_cells breaks a tie unlike nearest(), " << at;
+  }
+}
+
+fluid::FluidConfig walled_box(int nx, int ny, int nz, int dimension) {
+  fluid::FluidConfig c = box(nx, ny, nz, false);
+  for (int side = 0; side < 2 * dimension; ++side) c.sides[side].kind = fluid::WallKind::kBounceBack;
+  return c;
+}
+
+// nearest_cells() runs the best instruction set the CPU has (fluid/kernel_isa.h), as the fluid
+// kernels do: each check runs on every path this CPU has, the best restored after.
+template <class Check>
+void on_every_kernel_isa(const Check& check) {
+  struct Restore {
+    ~Restore() { fluid::limit_kernel_isa(fluid::KernelIsa::kAvx512); }
+  } restore;
+  for (auto isa : {fluid::KernelIsa::kBaseline, fluid::KernelIsa::kAvx2, fluid::KernelIsa::kAvx512}) {
+    fluid::limit_kernel_isa(isa);
+    SCOPED_TRACE(fluid::kernel_isa_name(fluid::kernel_isa()));
+    check();
   }
 }
 
 TEST(NodeLocator, NearestNodeOnSquareAndTriangularGrids) {
-  check_nearest<lattice::D2Q9>(box(10, 8, 1, false));
-  check_nearest<lattice::D2Q7>(box(10, 8, 1, false));
-  check_nearest<lattice::D2Q7>(box(9, 7, 1, true));
+  on_every_kernel_isa([] {
+    check_nearest<lattice::D2Q9>(box(10, 8, 1, false));
+    check_nearest<lattice::D2Q9>(walled_box(9, 7, 1, 2));
+    check_nearest<lattice::D2Q7>(box(10, 8, 1, false));
+    check_nearest<lattice::D2Q7>(box(9, 7, 1, true));
+    check_nearest<lattice::D2Q7>(walled_box(9, 7, 1, 2));
+  });
+}
+
+TEST(NodeLocator, NearestNodeOnCubicGrids) {
+  on_every_kernel_isa([] {
+    check_nearest<lattice::D3Q19>(box(6, 5, 4, false));
+    check_nearest<lattice::D3Q19>(box(6, 5, 4, true));
+    check_nearest<lattice::D3Q19>(walled_box(6, 5, 4, 3));
+  });
 }
 
 // Between two monitor checks a diverging particle can reach NaN or 1e300, and the exchange still
@@ -75,9 +139,20 @@ void check_any_double(const fluid::FluidConfig& c) {
                             c.sides[fluid::kYLow].kind == fluid::WallKind::kPeriodic,
                             c.sides[fluid::kZLow].kind == fluid::WallKind::kPeriodic};
   const int count = std::size(values);
+  // nearest_cells() over all the combinations at once (its vectorised loop, not only its tail).
+  std::vector<double> positions;
   for (int i = 0; i < count; ++i)
     for (int j = 0; j < count; ++j)
       for (int k = 0; k < (L::D == 3 ? count : 1); ++k) {
+        positions.insert(positions.end(), {values[i], values[j]});
+        if (L::D == 3) positions.push_back(values[k]);
+      }
+  std::vector<std::uint32_t> cells(positions.size() / L::D);
+  locator.nearest_cells(positions.data(), 0, static_cast<long>(cells.size()), cells.data());
+  long index = 0;
+  for (int i = 0; i < count; ++i)
+    for (int j = 0; j < count; ++j)
+      for (int k = 0; k < (L::D == 3 ? count : 1); ++k, ++index) {
         const Vec3 r{values[i], values[j], L::D == 3 ? values[k] : 0.0};
         const Node found = locator.nearest(r);
         const std::string at = "at (" + std::to_string(r[0]) + ", " + std::to_string(r[1]) + ", " +
@@ -90,22 +165,19 @@ void check_any_double(const fluid::FluidConfig& c) {
         }
         const Vec3 nan_as_zero{std::isnan(r[0]) ? 0 : r[0], std::isnan(r[1]) ? 0 : r[1], std::isnan(r[2]) ? 0 : r[2]};
         EXPECT_EQ(found, locator.nearest(nan_as_zero)) << at;
+        EXPECT_EQ(cells[index], locator.cell(found)) << "nearest_cells " << at;
       }
 }
 
-fluid::FluidConfig walled_box(int nx, int ny, int nz, int dimension) {
-  fluid::FluidConfig c = box(nx, ny, nz, false);
-  for (int side = 0; side < 2 * dimension; ++side) c.sides[side].kind = fluid::WallKind::kBounceBack;
-  return c;
-}
-
 TEST(NodeLocator, NearestIsANodeForAnyDouble) {
-  check_any_double<lattice::D2Q9>(box(10, 8, 1, false));
-  check_any_double<lattice::D2Q9>(walled_box(10, 8, 1, 2));
-  check_any_double<lattice::D2Q7>(box(10, 8, 1, false));
-  check_any_double<lattice::D2Q7>(walled_box(9, 7, 1, 2));
-  check_any_double<lattice::D3Q19>(box(6, 5, 4, false));
-  check_any_double<lattice::D3Q19>(walled_box(6, 5, 4, 3));
+  on_every_kernel_isa([] {
+    check_any_double<lattice::D2Q9>(box(10, 8, 1, false));
+    check_any_double<lattice::D2Q9>(walled_box(10, 8, 1, 2));
+    check_any_double<lattice::D2Q7>(box(10, 8, 1, false));
+    check_any_double<lattice::D2Q7>(walled_box(9, 7, 1, 2));
+    check_any_double<lattice::D3Q19>(box(6, 5, 4, false));
+    check_any_double<lattice::D3Q19>(walled_box(6, 5, 4, 3));
+  });
 }
 
 // A fluid at one state everywhere, answering the exchange's batched read.

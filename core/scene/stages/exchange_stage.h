@@ -25,14 +25,23 @@ class ExchangeStage final : public StepStage {
   void run(StageClock& clock) override {
     const int parts = scene_.fluid.threads;
     const solid::ParticleVectors positions = solid_.positions();
-    coupling_.exchange.locate(
-        solid_.particle_count(),
-        [&](long p) {
-          const coupling::Node node = locator_.nearest(positions.get<L::D>(p));
-          if (coupling_.rotating) coupling_.node[p] = node;  // for momenta_at_nodes()
-          return static_cast<coupling::CellIndex>(locator_.cell(node));
-        },
-        &pool_, parts);
+    if (coupling_.rotating) {  // the nodes themselves are kept, for momenta_at_nodes()
+      coupling_.exchange.locate(
+          solid_.particle_count(),
+          [&](long p) {
+            const coupling::Node node = locator_.nearest(positions.get<L::D>(p));
+            coupling_.node[p] = node;
+            return static_cast<coupling::CellIndex>(locator_.cell(node));
+          },
+          &pool_, parts);
+    } else {
+      coupling_.exchange.locate_ranges(
+          solid_.particle_count(),
+          [&](long first, long end, coupling::CellIndex* cells) {
+            locator_.nearest_cells(positions.data, first, end, cells);
+          },
+          &pool_, parts);
+    }
     clock.lap(Stage::kLocate);
     coupling_.exchange.compute(solid_.masses(), coupling_.rotating ? momenta_at_nodes() : solid_.momenta(), fluid_,
                                &pool_, parts, solid_.any_anchored() ? &solid_.anchored_flags() : nullptr);
