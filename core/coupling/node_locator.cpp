@@ -28,13 +28,8 @@ namespace lbsolid::coupling {
 
 namespace {
 
-constexpr double kLimit = 1099511627776.0;      // 2^40, as NodeLocator::finite()
 constexpr double kRounder = 6755399441055744.0;  // 1.5 2^52
 
-LBSOLID_FORCE_INLINE double finite_or_zero(double v) {
-  const double clamped = std::min(std::max(v, -kLimit), kLimit);
-  return v == v ? clamped : 0.0;
-}
 // floor(v) for |v| <= 2^51.
 LBSOLID_FORCE_INLINE double floor_exact(double v) {
   const double r = (v + kRounder) - kRounder;
@@ -64,13 +59,13 @@ LBSOLID_FORCE_INLINE void nearest_cells_loop(const Axes& axes, const double* __r
     const double* r = positions + D * p;
     double node[3] = {0, 0, 0};
     if constexpr (!L::hexagonal) {
-      node[0] = fit_axis<kPx>(floor_exact(finite_or_zero(r[0]) + 0.5), axes.n[0]);
-      node[1] = fit_axis<kPy>(floor_exact(finite_or_zero(r[1]) + 0.5), axes.n[1]);
-      if constexpr (D == 3) node[2] = fit_axis<kPz>(floor_exact(finite_or_zero(r[2]) + 0.5), axes.n[2]);
+      node[0] = fit_axis<kPx>(floor_exact(finite_coordinate(r[0]) + 0.5), axes.n[0]);
+      node[1] = fit_axis<kPy>(floor_exact(finite_coordinate(r[1]) + 0.5), axes.n[1]);
+      if constexpr (D == 3) node[2] = fit_axis<kPz>(floor_exact(finite_coordinate(r[2]) + 0.5), axes.n[2]);
     } else {
       // nearest()'s search, step by step: the nearest node of the row below and of the row above,
       // then the nearer (the lower on a tie); a periodic row is measured unwrapped.
-      const double x = finite_or_zero(r[0]), y = finite_or_zero(r[1]);
+      const double x = finite_coordinate(r[0]), y = finite_coordinate(r[1]);
       const double below = floor_exact(y * (1.0 / L::row_spacing));
       double xs[2], ys[2], d2[2];
       for (int k = 0; k < 2; ++k) {

@@ -13,10 +13,21 @@
 #include <cstdint>
 
 #include "fluid/fluid_config.h"
+#include "fluid/force_inline.h"
 
 namespace lbsolid::coupling {
 
 using Node = std::array<int, 3>;
+
+// A position's coordinate clamped to +-2^40 (which leaves the rounding below exact, a double's
+// step there being 2^-12, and i % n free of overflow), NaN, which equals nothing, read as 0.
+// Written with min, max and a select so that it compiles without branches (a locate per particle
+// per step); force-inlined into each instruction set's copy of nearest_cells().
+LBSOLID_FORCE_INLINE double finite_coordinate(double v) {
+  constexpr double kLimit = 1099511627776.0;
+  const double clamped = std::min(std::max(v, -kLimit), kLimit);
+  return v == v ? clamped : 0.0;
+}
 
 template <class L>
 class NodeLocator {
@@ -31,10 +42,10 @@ class NodeLocator {
   [[gnu::always_inline]] Node nearest(const fluid::Vec3& position) const {
     if constexpr (!L::hexagonal) {
       Node node{0, 0, 0};
-      for (int a = 0; a < L::D; ++a) node[a] = fit(a, nearest_integer(finite(position[a])));
+      for (int a = 0; a < L::D; ++a) node[a] = fit(a, nearest_integer(finite_coordinate(position[a])));
       return node;
     } else {
-      const double r[2] = {finite(position[0]), finite(position[1])};
+      const double r[2] = {finite_coordinate(position[0]), finite_coordinate(position[1])};
       // A product, not a quotient: a row off by one at a boundary still leaves the nearest row
       // among the two tried (the nearest node lies in a row within h/2 of the position).
       const long below = floor_of(r[1] * (1.0 / L::row_spacing));
@@ -68,17 +79,9 @@ class NodeLocator {
   void nearest_cells(const double* positions, long first, long end, std::uint32_t* cells) const;
 
  private:
-  // 2^40 leaves the rounding exact (a double's step there is 2^-12) and i % n free of overflow.
-  static constexpr double kLimit = 1099511627776.0;
-  // NaN, which equals nothing, becomes 0. Written with min, max and a select so that it compiles
-  // without branches, as does the rest below for walled axes (a locate per particle per step).
-  static double finite(double v) {
-    const double clamped = std::min(std::max(v, -kLimit), kLimit);
-    return v == v ? clamped : 0.0;
-  }
-  // std::floor for |v| <= 2^40 (finite() ensures it), exactly: truncate, then step down where that
-  // rounded up. Without SSE4.1 (the default x86-64 target the coupling is built for) std::floor
-  // is a libm call, three per D2Q7 particle per step.
+  // std::floor for |v| <= 2^40 (finite_coordinate() ensures it), exactly: truncate, then step
+  // down where that rounded up. Without SSE4.1 (the default x86-64 target the coupling is built
+  // for) std::floor is a libm call, three per D2Q7 particle per step.
   static long floor_of(double v) {
     const long truncated = static_cast<long>(v);
     return truncated - static_cast<long>(static_cast<double>(truncated) > v);
