@@ -338,10 +338,27 @@ void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const Vec3* dp, lon
     }
     if (prefetch && k + kPrefetchAhead < count) prefetch_node(f, nodes[k + kPrefetchAhead], slots.offset, /*for_write=*/true);
     T* at = f + cell(x, y, z);
-    for (int i = 0; i < Q; ++i) {
-      const double c_dot_dp = L::c[i][0] * dp[k][0] + L::c[i][1] * dp[k][1] + L::c[i][2] * dp[k][2];
-      at[slots.offset[i]] += static_cast<T>(L::w[i] * c_dot_dp / L::cs2) * slots.scale[i];
-    }
+    // Direction by direction at compile time, a pair of opposite directions at a time: c_j = -c_i
+    // and w_j = w_i, so j's term is exactly the negation of i's (rounding is symmetric), and the
+    // division by c_s^2 (not a power of two on D3Q19) is paid once a pair. Zero velocity
+    // components and the rest population (c = 0: it gains nothing) cost nothing (lattice::add_c).
+    constexpr auto opp = lattice::opposite_table<L>();
+    [&]<int... I>(std::integer_sequence<int, I...>) {
+      ([&] {
+        constexpr int J = opp[I];
+        if constexpr (J > I) {
+          static_assert(L::w[J] == L::w[I] && L::c[J][0] == -L::c[I][0] && L::c[J][1] == -L::c[I][1] &&
+                        L::c[J][2] == -L::c[I][2]);
+          double c_dot_dp = 0;
+          c_dot_dp = lattice::add_c<L, I, 0>(c_dot_dp, dp[k][0]);
+          c_dot_dp = lattice::add_c<L, I, 1>(c_dot_dp, dp[k][1]);
+          c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[k][2]);
+          const double term = L::w[I] * c_dot_dp / L::cs2;
+          at[slots.offset[I]] += static_cast<T>(term) * slots.scale[I];
+          at[slots.offset[J]] += static_cast<T>(-term) * slots.scale[J];
+        }
+      }(), ...);
+    }(std::make_integer_sequence<int, Q>{});
   }
 }
 

@@ -273,24 +273,32 @@ void SolidSystem::stream(const Force& force, parallel::ThreadPool* pool, int par
 template <int Links, bool kMayShed, class Force>
 void SolidSystem::advance(const Force& force, int first, int end) {
   constexpr int D = Links / 2;
+  // Raw pointers: through the vectors, every store to a vector's element would make the compiler
+  // load that vector's data pointer again (it may not know the store leaves the vector alone).
+  const double* __restrict masses = mass_.data();
+  const double* __restrict momenta = momentum_.data();
+  const int* __restrict neighbours = neighbours_.data();
+  const double* __restrict incoming = incoming_.data();
+  double* __restrict outgoing = outgoing_.data();
+  double* __restrict positions = positions_.data();
   for (int p = first; p < end; ++p) {
     if constexpr (kMayShed)
-      if (mass_[p] == 0) continue;
+      if (masses[p] == 0) continue;
     const Vec3 f = force(p);
-    const double* psi = &momentum_[static_cast<std::size_t>(p) * D];
-    const double inv_m = 1.0 / mass_[p];
+    const double* psi = &momenta[static_cast<std::size_t>(p) * D];
+    const double inv_m = 1.0 / masses[p];
     double base[D];  // Psi/M + F/(2M): the displacement, and the common part of every outgoing vector
     for (int a = 0; a < D; ++a) base[a] = (psi[a] + 0.5 * f[a]) * inv_m;
-    const int* neighbour = &neighbours_[static_cast<std::size_t>(p) * Links];
-    const double* in = &incoming_[static_cast<std::size_t>(p) * Links * D];
+    const int* neighbour = &neighbours[static_cast<std::size_t>(p) * Links];
+    const double* in = &incoming[static_cast<std::size_t>(p) * Links * D];
     for (int k = 0; k < Links; ++k) {
       const int q = neighbour[k];
       if (q < 0) continue;
       const double* back = &in[(k + Links / 2) % Links * D];  // f_opp(k)(p)
-      double* out = &outgoing_[(static_cast<std::size_t>(q) * Links + k) * D];
+      double* out = &outgoing[(static_cast<std::size_t>(q) * Links + k) * D];
       for (int a = 0; a < D; ++a) out[a] = base[a] - back[a];
     }
-    double* r = &positions_[static_cast<std::size_t>(p) * D];
+    double* r = &positions[static_cast<std::size_t>(p) * D];
     for (int a = 0; a < D; ++a) r[a] += base[a];
   }
 }

@@ -6,9 +6,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "fluid/fluid_test_support.h"
 #include "scene/simulation.h"
+#include "solid/body_shape.h"
+#include "solid/wall_contact.h"
 
 namespace lbsolid::scene {
 namespace {
@@ -162,6 +165,53 @@ TEST(WallContact, InelasticContactDissipates) {
   }
   report("energy left after e = 0 contacts (fraction)", energy / energy0, 0.5);
   EXPECT_LT(energy, 0.5 * energy0);
+}
+
+// add_wall_contact() skips the division for a particle far from both walls of an axis (4 |P.n|
+// away or more). Against MODEL.md's rule evaluated here in full, for particles of every mass a
+// chain and a sheet have (M = 1/2 at a chain's end, the least a particle the step reaches can
+// have), pushes of both signs and walls placed from 0 to 6 |P.n| away on either side, around and
+// exactly at the shortcut's threshold: the same force, bit for bit, every time.
+TEST(WallContact, TheFarFromWallShortcutAgreesWithTheFullRule) {
+  solid::SolidSystem solid(2);
+  solid::BodySpec chain;
+  chain.shape = solid::BodyShape::kChain;
+  chain.length = 3;
+  solid.add_body("chain", solid::body_labels(chain, 2), 1.0, {5, 5, 0}, {0.02, -0.01, 0}, {0, 0, 0});
+  solid::BodySpec sheet;
+  sheet.size = {3, 3, 1};
+  solid.add_body("sheet", solid::body_labels(sheet, 2), 0.7, {12.3, 7.1, 0}, {-0.03, 0.015, 0}, {0, 0, 0});
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0, 1), force(-0.2, 0.2);
+  long checked = 0, contacts = 0;
+  for (int p = 0; p < solid.particle_count(); ++p)
+    for (int trial = 0; trial < 4000; ++trial) {
+      const Vec3 other{force(rng), force(rng), 0};
+      const int axis = trial % 2;
+      const double push = solid.momentum(p)[axis] + 0.5 * other[axis];
+      const double r = solid.position(p)[axis];
+      // The wall's distance: mostly within a few ulps of the 4 |push| threshold, else anywhere to 6 |push|.
+      double distance = trial % 3 == 0 ? 6 * std::abs(push) * unit(rng) : 4 * std::abs(push);
+      if (trial % 3 == 1) distance = std::nextafter(distance, trial % 2 ? 0.0 : INFINITY);
+      solid::ContactWalls walls;
+      walls.restitution = 0.8;
+      const bool low = trial % 4 < 2;
+      walls.present[2 * axis + (low ? 0 : 1)] = true;
+      walls.position[2 * axis + (low ? 0 : 1)] = low ? r - distance : r + distance;
+      Vec3 f = other;
+      solid::add_wall_contact<2>(walls, solid, p, f);
+      // MODEL.md section 2 in full: contact when the free move r + P/M would cross the wall.
+      const double arrival = r + push / solid.mass(p);
+      const bool crosses = low ? push < 0 && arrival < walls.position[2 * axis]
+                               : push > 0 && arrival > walls.position[2 * axis + 1];
+      Vec3 expected = other;
+      if (crosses) expected[axis] -= (1.0 + walls.restitution) * push;
+      ASSERT_EQ(f, expected) << "particle " << p << " (M " << solid.mass(p) << "), trial " << trial;
+      ++checked;
+      contacts += crosses;
+    }
+  EXPECT_EQ(checked, 4000L * solid.particle_count());
+  EXPECT_GT(contacts, 100);  // the cases include crossings (about 1 in 40 trials), not only clear ones
 }
 
 }  // namespace
