@@ -122,6 +122,7 @@ class FluidLattice {
     std::array<long, L::Q> offset;
     std::array<T, L::Q> correction;
     std::array<T, L::Q> scale;
+    bool plain;  // every scale 1 and correction 0
   };
   RowSlots read_slots(const PullSources<T, L::Q>& sources) const;
   // A pressure outlet's rule with the velocity the flow brings to it: for each of its rows, the
@@ -133,6 +134,7 @@ class FluidLattice {
   struct InjectionSlots {
     std::array<long, L::Q> offset;
     std::array<T, L::Q> scale;
+    bool plain;  // every scale 1
   };
   InjectionSlots injection_slots(const PullSources<T, L::Q>& sources) const;
   // The batched calls ask for a later node's populations while they work on this one: a lone
