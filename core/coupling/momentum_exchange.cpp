@@ -162,6 +162,20 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
 }
 
 void MomentumExchange::node_velocities(long first, long count, const fluid::DensityMomentum* read) {
+  if (rule_ == ExchangeRule::kCommonVelocity && !anchors_present_) {  // the usual case, without branches
+    const double* __restrict mass = slots_.mass.data() + first;
+    const fluid::Vec3* __restrict momentum = slots_.momentum.data() + first;
+    fluid::Vec3* __restrict velocity = slots_.velocity.data() + first;
+    fluid::Vec3* __restrict gained = slots_.gained.data() + first;
+    for (long k = 0; k < count; ++k) {
+      const double inverse_mass = 1.0 / (read[k].rho + mass[k]);
+      for (int a = 0; a < 3; ++a) {
+        velocity[k][a] = (read[k].momentum[a] + momentum[k][a]) * inverse_mass;
+        gained[k][a] = momentum[k][a] - mass[k] * velocity[k][a];
+      }
+    }
+    return;
+  }
   for (long s = first; s < first + count; ++s) {
     const fluid::DensityMomentum& f = read[s - first];
     fluid::Vec3& u = slots_.velocity[s];

@@ -140,6 +140,7 @@ class MomentumExchange {
   std::vector<long> block_count_;        // per block of cells: particles there at the last exchange
   std::vector<Part> parts_;
   int parts_used_ = 0;
+  bool anchors_present_ = false;  // the last compute() was given anchors
   Slots slots_;
   std::vector<fluid::Vec3> pairwise_dp_;  // the pairwise rule: per particle
 };
@@ -178,6 +179,7 @@ void MomentumExchange::compute(const std::vector<double>& mass, const solid::Par
                                const Fluid& fluid, parallel::ThreadPool* pool, int parts,
                                const std::vector<char>* anchored) {
   cut_parts(pool ? parts : 1, pool);
+  anchors_present_ = anchored != nullptr;
   slot_.resize(cell_.size());
   if (rule_ == ExchangeRule::kPairwise) pairwise_dp_.resize(cell_.size());
   for_parts(pool, [&](int k) {
