@@ -24,17 +24,18 @@ MomentumExchange::MomentumExchange(const std::array<int, 3>& grid, ExchangeRule 
 void MomentumExchange::Slots::resize(std::size_t n) {
   node.resize(n);
   mass.resize(n);
-  momentum.resize(n);
-  velocity.resize(n);
-  gained.resize(n);
+  momentum.resize(dimension * n);
+  velocity.resize(dimension * n);
+  gained.resize(dimension * n);
   anchors.resize(n);
-  anchor_share.resize(n);
+  anchor_share.resize(dimension * n);
 }
 
 std::size_t MomentumExchange::Slots::bytes_allocated() const {
-  return node.capacity() * sizeof(Node) + mass.capacity() * sizeof(double) +
-         (momentum.capacity() + velocity.capacity() + gained.capacity() + anchor_share.capacity()) * sizeof(fluid::Vec3) +
-         anchors.capacity() * sizeof(std::uint32_t) + pairwise_rho.capacity() * sizeof(double);
+  return node.capacity() * sizeof(Node) + anchors.capacity() * sizeof(std::uint32_t) +
+         (mass.capacity() + momentum.capacity() + velocity.capacity() + gained.capacity() + anchor_share.capacity() +
+          pairwise_rho.capacity()) *
+             sizeof(double);
 }
 
 std::size_t MomentumExchange::bytes_allocated() const {
@@ -71,7 +72,8 @@ void MomentumExchange::cut_parts(int parts, parallel::ThreadPool* pool) {
     part.base = slots;
     slots += part.count;
   }
-  if (slots_.size() < slots) slots_.resize(slots);
+  if (slots_.size() < slots || static_cast<long>(slots_.momentum.size()) < slots_.dimension * slots)
+    slots_.resize(slots);
   if (rule_ == ExchangeRule::kPairwise && static_cast<long>(slots_.pairwise_rho.size()) < slots)
     slots_.pairwise_rho.resize(slots);
 }
@@ -118,7 +120,7 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
       slot_of_cell_[c] = static_cast<std::uint32_t>(s);
       slots_.node[s] = {static_cast<int>(c - (row_end - nx)), y, z};
       slots_.mass[s] = 0;
-      slots_.momentum[s] = {0, 0, 0};
+      for (int a = 0; a < slots_.dimension; ++a) slots_.momentum[slots_.dimension * s + a] = 0;
       slots_.anchors[s] = 0;
       ++s;
     }
@@ -132,10 +134,10 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   const double* __restrict masses = mass.data();
   const double* __restrict momenta = momentum.data;
   double* __restrict slot_mass = slots_.mass.data();
-  fluid::Vec3* __restrict slot_momentum = slots_.momentum.data();
+  double* __restrict slot_momentum = slots_.momentum.data();
   const CellIndex first = part.first_cell, end = part.end_cell;
   const long n = static_cast<long>(cell_.size());
-  // D components per particle (a 2D solid stores no z; its nodes' z sums stay zero).
+  // D components per particle and per slot (a 2D solid stores no z).
   // Anchors count at their node and add neither mass nor momentum (theirs is infinite, at rest).
   const char* __restrict anchor = anchored ? anchored->data() : nullptr;
   std::uint32_t* __restrict slot_anchors = slots_.anchors.data();
@@ -150,7 +152,7 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
         continue;
       }
       slot_mass[slot] += masses[p];
-      for (int a = 0; a < D; ++a) slot_momentum[slot][a] += momenta[p * D + a];
+      for (int a = 0; a < D; ++a) slot_momentum[slot * D + a] += momenta[p * D + a];
     }
   };
   auto with_anchors = [&]<int D>(std::integral_constant<int, D> d) {
@@ -161,40 +163,52 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   else with_anchors(std::integral_constant<int, 3>{});
 }
 
-void MomentumExchange::node_velocities(long first, long count, const fluid::DensityMomentum* read) {
-  if (rule_ == ExchangeRule::kCommonVelocity && !anchors_present_) {  // the usual case, without branches
-    const double* __restrict mass = slots_.mass.data() + first;
-    const fluid::Vec3* __restrict momentum = slots_.momentum.data() + first;
-    fluid::Vec3* __restrict velocity = slots_.velocity.data() + first;
-    fluid::Vec3* __restrict gained = slots_.gained.data() + first;
-    for (long k = 0; k < count; ++k) {
-      const double inverse_mass = 1.0 / (read[k].rho + mass[k]);
-      for (int a = 0; a < 3; ++a) {
-        velocity[k][a] = (read[k].momentum[a] + momentum[k][a]) * inverse_mass;
-        gained[k][a] = momentum[k][a] - mass[k] * velocity[k][a];
-      }
+template <int D>
+void MomentumExchange::common_velocities(long first, long count, const fluid::DensityMomentum* read) {
+  // The usual case (common-velocity rule, no anchors), without branches.
+  const double* __restrict mass = slots_.mass.data() + first;
+  const double* __restrict momentum = slots_.momentum.data() + D * first;
+  double* __restrict velocity = slots_.velocity.data() + D * first;
+  double* __restrict gained = slots_.gained.data() + D * first;
+  for (long k = 0; k < count; ++k) {
+    const double inverse_mass = 1.0 / (read[k].rho + mass[k]);
+    for (int a = 0; a < D; ++a) {
+      velocity[D * k + a] = (read[k].momentum[a] + momentum[D * k + a]) * inverse_mass;
+      gained[D * k + a] = momentum[D * k + a] - mass[k] * velocity[D * k + a];
     }
+  }
+}
+
+void MomentumExchange::node_velocities(long first, long count, const fluid::DensityMomentum* read) {
+  const int d = slots_.dimension;
+  if (rule_ == ExchangeRule::kCommonVelocity && !anchors_present_) {
+    if (d == 2) common_velocities<2>(first, count, read);
+    else common_velocities<3>(first, count, read);
     return;
   }
   for (long s = first; s < first + count; ++s) {
     const fluid::DensityMomentum& f = read[s - first];
-    fluid::Vec3& u = slots_.velocity[s];
+    double* u = slots_.velocity.data() + d * s;
+    double* gained = slots_.gained.data() + d * s;
+    const double* momentum = slots_.momentum.data() + d * s;
     if (slots_.anchors[s] > 0) {  // held still: everything here comes to rest on the anchors
       const double share = 1.0 / slots_.anchors[s];
-      for (int a = 0; a < 3; ++a) {
+      for (int a = 0; a < d; ++a) {
         u[a] = 0;
-        slots_.gained[s][a] = -f.momentum[a];
-        slots_.anchor_share[s][a] = -(f.momentum[a] + slots_.momentum[s][a]) * share;
+        gained[a] = -f.momentum[a];
+        slots_.anchor_share[d * s + a] = -(f.momentum[a] + momentum[a]) * share;
       }
     } else if (rule_ == ExchangeRule::kCommonVelocity) {
       const double inverse_mass = 1.0 / (f.rho + slots_.mass[s]);
-      for (int a = 0; a < 3; ++a) {
-        u[a] = (f.momentum[a] + slots_.momentum[s][a]) * inverse_mass;
-        slots_.gained[s][a] = slots_.momentum[s][a] - slots_.mass[s] * u[a];
+      for (int a = 0; a < d; ++a) {
+        u[a] = (f.momentum[a] + momentum[a]) * inverse_mass;
+        gained[a] = momentum[a] - slots_.mass[s] * u[a];
       }
     } else {
-      for (int a = 0; a < 3; ++a) u[a] = f.momentum[a] / f.rho;
-      slots_.gained[s] = {0, 0, 0};
+      for (int a = 0; a < d; ++a) {
+        u[a] = f.momentum[a] / f.rho;
+        gained[a] = 0;
+      }
       slots_.pairwise_rho[s] = f.rho;
     }
   }
@@ -209,10 +223,9 @@ void MomentumExchange::pairwise_gains(const Part& part, const std::vector<double
     const long s = slot_of_cell_[c];
     const double z = 1.0 / (1.0 / slots_.pairwise_rho[s] + 1.0 / mass[p]);
     const fluid::Vec3 momentum_p = momentum[p];
-    for (int a = 0; a < 3; ++a) {
-      pairwise_dp_[p][a] = z * (momentum_p[a] / mass[p] - slots_.velocity[s][a]);
-      slots_.gained[s][a] += pairwise_dp_[p][a];
-    }
+    const fluid::Vec3 u = slots_.vector(slots_.velocity, s);
+    for (int a = 0; a < 3; ++a) pairwise_dp_[p][a] = z * (momentum_p[a] / mass[p] - u[a]);
+    for (int a = 0; a < slots_.dimension; ++a) slots_.gained[slots_.dimension * s + a] += pairwise_dp_[p][a];
   }
 }
 
@@ -221,8 +234,7 @@ ExchangedNodes MomentumExchange::exchanged() const {
   for (int k = 0; k < parts_used_; ++k) {
     const Part& part = parts_[k];
     out.nodes.insert(out.nodes.end(), slots_.node.begin() + part.base, slots_.node.begin() + part.base + part.count);
-    out.gained.insert(out.gained.end(), slots_.gained.begin() + part.base,
-                      slots_.gained.begin() + part.base + part.count);
+    for (long s = part.base; s < part.base + part.count; ++s) out.gained.push_back(slots_.vector(slots_.gained, s));
   }
   return out;
 }

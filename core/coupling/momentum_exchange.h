@@ -20,6 +20,7 @@
 // or moved.
 #include <algorithm>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "coupling/node_locator.h"
@@ -67,15 +68,19 @@ class MomentumExchange {
   template <class Fluid>
   void compute(const std::vector<double>& mass, const solid::ParticleVectors& momentum, const Fluid& fluid,
                parallel::ThreadPool* pool = nullptr, int parts = 1, const std::vector<char>* anchored = nullptr);
-  // The momentum particle p gives its node, given the mass and momentum compute() had for it.
+  // The momentum particle p gives its node, given the mass and momentum compute() had for it;
+  // D is the solid's dimension (a 2D exchange keeps no z: dp's z is the momentum's).
+  template <int D>
   fluid::Vec3 particle_dp(long p, const fluid::Vec3& momentum, double mass) const {
     if (rule_ != ExchangeRule::kCommonVelocity) return pairwise_dp_[p];
-    const fluid::Vec3& u = slots_.velocity[slot_[p]];
-    return {momentum[0] - mass * u[0], momentum[1] - mass * u[1], momentum[2] - mass * u[2]};
+    const double* u = slots_.velocity.data() + D * static_cast<long>(slot_[p]);
+    fluid::Vec3 dp{momentum[0] - mass * u[0], momentum[1] - mass * u[1], momentum[2]};
+    if constexpr (D == 3) dp[2] -= mass * u[2];
+    return dp;
   }
   // What anchored particle p gives its node (minus what it absorbs there): the node's fluid
   // momentum and the other particles' momenta, negated, over the node's anchors.
-  fluid::Vec3 anchor_dp(long p) const { return slots_.anchor_share[slot_[p]]; }
+  fluid::Vec3 anchor_dp(long p) const { return slots_.vector(slots_.anchor_share, slot_[p]); }
   // Gives the fluid the momentum of the last compute() (fluid.add_momenta per part), in the same
   // parts: each node's slots are written by no other node. Call after the fluid's step.
   template <class Fluid>
@@ -93,19 +98,26 @@ class MomentumExchange {
   // Every listed node, slot by slot (part k's from base[k] on): the node, the total mass and
   // momentum of its particles, the velocity its particles are compared with (u*, or the fluid's u
   // for the pairwise rule), and what its fluid gains. The fluid read there is used as it is read,
-  // not kept (but for its density under the pairwise rule).
+  // not kept (but for its density under the pairwise rule). Vectors have `dimension` components
+  // a slot (a 2D exchange moves a third less memory without the z's, which stay zero).
   struct Slots {
+    int dimension = 3;
     std::vector<Node> node;
     std::vector<double> mass;
-    std::vector<fluid::Vec3> momentum;
+    std::vector<double> momentum;
     std::vector<double> pairwise_rho;  // the pairwise rule only
-    std::vector<fluid::Vec3> velocity;
-    std::vector<fluid::Vec3> gained;
-    std::vector<std::uint32_t> anchors;      // anchored particles at the node
-    std::vector<fluid::Vec3> anchor_share;   // what each of them gives the node (anchor_dp)
+    std::vector<double> velocity;
+    std::vector<double> gained;
+    std::vector<std::uint32_t> anchors;  // anchored particles at the node
+    std::vector<double> anchor_share;    // what each of them gives the node (anchor_dp)
     long size() const { return static_cast<long>(node.size()); }
     void resize(std::size_t n);
     std::size_t bytes_allocated() const;
+    // Slot s's vector in `of`, as a 3-vector.
+    fluid::Vec3 vector(const std::vector<double>& of, long s) const {
+      const double* v = of.data() + dimension * s;
+      return {v[0], v[1], dimension == 3 ? v[2] : 0.0};
+    }
   };
   struct Part {
     CellIndex first_cell = 0, end_cell = 0;  // a whole number of bitmap words, but for the last
@@ -123,6 +135,8 @@ class MomentumExchange {
   // The comparison velocity and gain of the `count` nodes listed from slot `first` on, given
   // their fluid as read (`read[k]` for slot first + k).
   void node_velocities(long first, long count, const fluid::DensityMomentum* read);
+  template <int D>
+  void common_velocities(long first, long count, const fluid::DensityMomentum* read);
   // The pairwise rule: each particle's dP (eq. 14) and its node's gain, their sum.
   void pairwise_gains(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum);
   // work(k) for every part k, on the pool when there are several.
@@ -178,6 +192,7 @@ template <class Fluid>
 void MomentumExchange::compute(const std::vector<double>& mass, const solid::ParticleVectors& momentum,
                                const Fluid& fluid, parallel::ThreadPool* pool, int parts,
                                const std::vector<char>* anchored) {
+  slots_.dimension = momentum.dimension;
   cut_parts(pool ? parts : 1, pool);
   anchors_present_ = anchored != nullptr;
   slot_.resize(cell_.size());
@@ -198,9 +213,12 @@ void MomentumExchange::compute(const std::vector<double>& mass, const solid::Par
 
 template <class Fluid>
 void MomentumExchange::inject(Fluid& fluid, parallel::ThreadPool* pool) const {
+  if (parts_used_ > 0 && slots_.dimension != Fluid::D)
+    throw std::logic_error("MomentumExchange::inject: the solid's dimension is not the fluid's");
   for_parts(pool, [&](int k) {
     const Part& part = parts_[k];
-    if (part.count > 0) fluid.add_momenta(slots_.node.data() + part.base, slots_.gained.data() + part.base, part.count);
+    if (part.count > 0)
+      fluid.add_momenta(slots_.node.data() + part.base, slots_.gained.data() + Fluid::D * part.base, part.count);
   });
 }
 

@@ -49,6 +49,7 @@ class FluidLattice {
   using Lattice = L;
   using Real = T;
   static constexpr int Q = L::Q;
+  static constexpr int D = L::D;
 
   // Throws std::invalid_argument naming every bad field (validate_fluid_config). Each step is cut
   // into config.threads parts, run by `pool` when one is given (shared with other lattices: a
@@ -76,9 +77,9 @@ class FluidLattice {
   // them for a whole list of nodes at once. Here the list is walked in order, the slots of a row's
   // nodes worked out once per row; nodes given row by row (x rising) read and write memory in
   // order. `out[k]` gets what moments(nodes[k]) describes; add_momenta is add_momentum for each
-  // node with dp[k] (the nodes distinct).
+  // node with dp[D k .. D k + D - 1] (the nodes distinct; a 2D lattice's momenta have no z).
   void gather_momenta(const NodeIndex* nodes, long count, DensityMomentum* out) const;
-  void add_momenta(const NodeIndex* nodes, const Vec3* dp, long count);
+  void add_momenta(const NodeIndex* nodes, const double* dp, long count);
   // The number of parts each step is cut into; a lattice with its own pool resizes it.
   void set_threads(int threads);
 

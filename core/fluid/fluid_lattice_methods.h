@@ -321,11 +321,13 @@ typename FluidLattice<L, T>::InjectionSlots FluidLattice<L, T>::injection_slots(
 template <class L, class T>
 void FluidLattice<L, T>::add_momentum(int x, int y, int z, const Vec3& dp) {
   const NodeIndex node{x, y, z};
-  add_momenta(&node, &dp, 1);
+  double components[D];
+  for (int a = 0; a < D; ++a) components[a] = dp[a];  // a 2D lattice gives z nothing (c_z = 0)
+  add_momenta(&node, components, 1);
 }
 
 template <class L, class T>
-void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const Vec3* dp, long count) {
+void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const double* dp, long count) {
   if (!stepped_) throw std::logic_error("add_momentum: no step has produced post-collision populations yet");
   T* f = storage_.buffer(in_place() ? 0 : current_);
   const bool prefetch = worth_prefetching(nodes, count);
@@ -352,9 +354,9 @@ void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const Vec3* dp, lon
           static_assert(L::w[J] == L::w[I] && L::c[J][0] == -L::c[I][0] && L::c[J][1] == -L::c[I][1] &&
                         L::c[J][2] == -L::c[I][2]);
           double c_dot_dp = 0;
-          c_dot_dp = lattice::add_c<L, I, 0>(c_dot_dp, dp[k][0]);
-          c_dot_dp = lattice::add_c<L, I, 1>(c_dot_dp, dp[k][1]);
-          c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[k][2]);
+          c_dot_dp = lattice::add_c<L, I, 0>(c_dot_dp, dp[D * k]);
+          c_dot_dp = lattice::add_c<L, I, 1>(c_dot_dp, dp[D * k + 1]);
+          if constexpr (D == 3) c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[D * k + 2]);
           const double term = L::w[I] * c_dot_dp / L::cs2;
           if (slots.plain) {  // x * 1 is x
             at[slots.offset[I]] += static_cast<T>(term);

@@ -205,7 +205,7 @@ TEST(MomentumExchange, LoneParticleAndItsNodeReachOneVelocity) {
   const Vec3 psi{0.09, 0.012, -0.03};
   exchange.locate(1, [](long) { return CellIndex{1}; });
   exchange.compute({mass}, {psi.data(), 3}, UniformFluid{fluid_state});
-  const std::vector<Vec3> dp{exchange.particle_dp(0, psi, mass)};
+  const std::vector<Vec3> dp{exchange.particle_dp<3>(0, psi, mass)};
   const auto nodes = exchange.exchanged();
   ASSERT_EQ(nodes.size(), 1);
   const double z = 1.0 / (1.0 / fluid_state.rho + 1.0 / mass);
@@ -236,7 +236,7 @@ TEST(MomentumExchange, SeveralParticlesOnOneNodeShareOneVelocity) {
   const double u_star = 0.8 / 9.0;
   EXPECT_NEAR(gained / fluid_state.rho, u_star, 1e-16);
   for (int p = 0; p < 4; ++p)
-    EXPECT_NEAR((psi[p][0] - common.particle_dp(p, psi[p], mass[p])[0]) / mass[p], u_star, 1e-16);
+    EXPECT_NEAR((psi[p][0] - common.particle_dp<3>(p, psi[p], mass[p])[0]) / mass[p], u_star, 1e-16);
   MomentumExchange pairwise({1, 1, 1}, ExchangeRule::kPairwise);
   pairwise.locate(4, on_one_node);
   pairwise.compute(mass, momenta, UniformFluid{fluid_state});

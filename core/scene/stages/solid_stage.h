@@ -66,7 +66,7 @@ class SolidStage final : public StepStage {
         const solid::Vec3 compared = coupling_->rotating
                                          ? solid::ParticleVectors{coupling_->momenta_at_nodes.data(), D}.get<D>(p)
                                          : momenta.get<D>(p);
-        const solid::Vec3 dp = coupling_->exchange.particle_dp(p, compared, solid_.mass(p));
+        const solid::Vec3 dp = coupling_->exchange.template particle_dp<D>(p, compared, solid_.mass(p));
         for (int a = 0; a < 3; ++a) f[a] -= dp[a];
       }
       if constexpr (kContact) solid::add_wall_contact<D>(walls_, solid_, p, f);
