@@ -107,6 +107,12 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   long row = part.first_cell / nx, row_end = (row + 1) * nx;
   int y = static_cast<int>(row % ny), z = static_cast<int>(row / ny);
   long s = part.base;
+  // Raw pointers: through the vectors every store would make the compiler reload their data.
+  const int d = slots_.dimension;  // components of a slot's momentum (a 2D solid stores no z)
+  Node* __restrict node = slots_.node.data();
+  double* __restrict slot_mass = slots_.mass.data();
+  double* __restrict slot_momentum = slots_.momentum.data();
+  std::uint32_t* __restrict slot_anchors = slots_.anchors.data();
   for (long w = part.first_cell >> 6; w < (static_cast<long>(part.end_cell) + 63) >> 6; ++w) {
     for (std::uint64_t bits = touched_[w]; bits != 0; bits &= bits - 1) {
       const long c = 64 * w + __builtin_ctzll(bits);
@@ -118,29 +124,26 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
         }
       }
       slot_of_cell_[c] = static_cast<std::uint32_t>(s);
-      slots_.node[s] = {static_cast<int>(c - (row_end - nx)), y, z};
-      slots_.mass[s] = 0;
-      for (int a = 0; a < slots_.dimension; ++a) slots_.momentum[slots_.dimension * s + a] = 0;
-      slots_.anchors[s] = 0;
+      node[s] = {static_cast<int>(c - (row_end - nx)), y, z};
+      slot_mass[s] = 0;
+      slot_momentum[d * s] = slot_momentum[d * s + 1] = 0;
+      if (d == 3) slot_momentum[d * s + 2] = 0;
+      slot_anchors[s] = 0;
       ++s;
     }
     touched_[w] = 0;
   }
-  // Each node's particles summed in index order. Raw pointers: through the vectors every store
-  // would make the compiler reload their data.
+  // Each node's particles summed in index order.
   const CellIndex* __restrict cells = cell_.data();
   const std::uint32_t* __restrict slot_of_cell = slot_of_cell_.data();
   std::uint32_t* __restrict slot_of_particle = slot_.data();
   const double* __restrict masses = mass.data();
   const double* __restrict momenta = momentum.data;
-  double* __restrict slot_mass = slots_.mass.data();
-  double* __restrict slot_momentum = slots_.momentum.data();
   const CellIndex first = part.first_cell, end = part.end_cell;
   const long n = static_cast<long>(cell_.size());
   // D components per particle and per slot (a 2D solid stores no z).
   // Anchors count at their node and add neither mass nor momentum (theirs is infinite, at rest).
   const char* __restrict anchor = anchored ? anchored->data() : nullptr;
-  std::uint32_t* __restrict slot_anchors = slots_.anchors.data();
   auto sum = [&]<int D, bool kAnchors>(std::integral_constant<int, D>, std::bool_constant<kAnchors>) {
     for (long p = 0; p < n; ++p) {
       const CellIndex c = cells[p];
@@ -155,9 +158,9 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
       for (int a = 0; a < D; ++a) slot_momentum[slot * D + a] += momenta[p * D + a];
     }
   };
-  auto with_anchors = [&]<int D>(std::integral_constant<int, D> d) {
-    if (anchor) sum(d, std::true_type{});
-    else sum(d, std::false_type{});
+  auto with_anchors = [&]<int D>(std::integral_constant<int, D> dimension) {
+    if (anchor) sum(dimension, std::true_type{});
+    else sum(dimension, std::false_type{});
   };
   if (momentum.dimension == 2) with_anchors(std::integral_constant<int, 2>{});
   else with_anchors(std::integral_constant<int, 3>{});
