@@ -13,6 +13,7 @@
 //              (FluidLattice checks this once per configuration).
 #include "fluid/cell_update.h"
 #include "fluid/force_inline.h"
+#include "fluid/line_aligned_parts.h"
 #include "fluid/row_plan.h"
 #include "lattice/lattice_traits.h"
 
@@ -23,20 +24,21 @@ LBSOLID_FORCE_INLINE void collide_local_rows(const RowPlans<L, T>& plans, T* f, 
                         long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
   constexpr int Q = L::Q;
   constexpr auto opp = lattice::opposite_table<L>();
+  const T* in[Q];
+  T* out[Q];
+  for (int i = 0; i < Q; ++i) {
+    in[i] = f + i * stride;
+    out[i] = f + opp[i] * stride;
+  }
+  constexpr auto no_wall = WallMap<T, Q>::identity();
   for (long first = row_begin; first < row_end;) {
-    // Rows with one plan share their force: sweep them as one run of cells.
+    // This step reads no neighbour, so rows that share a force are one run of cells.
+    const long last = plans.last_row_sharing_force(first, row_end);
     const RowPlan<T, Q>& plan = plans.for_row(first);
-    const long last = plans.last_row_sharing_plan(first, row_end);
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
-    const T* in[Q];
-    T* out[Q];
-    constexpr auto no_wall = WallMap<T, Q>::identity();
-    for (int i = 0; i < Q; ++i) {
-      in[i] = f + i * stride;
-      out[i] = f + opp[i] * stride;
-    }
-    update_cells<L, T, Collision, kForce, false>(in, no_wall, out, no_wall, force, rates, rho0,
-                                                 first * nx, (last + 1) * nx);
+    for_line_aligned_parts<T>(first * nx, (last + 1) * nx, [&](long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
+      update_cells<L, T, Collision, kForce, false>(in, no_wall, out, no_wall, force, rates, rho0, begin, end);
+    });
     first = last + 1;
   }
 }

@@ -92,6 +92,17 @@ class RowPlans {
     while (last + 1 < end && &for_row(last + 1) == plan) ++last;
     return last;
   }
+  // The last row of the run that starts at `first`, ends before `end` and has first's force.
+  long last_row_sharing_force(long first, long end) const {
+    const T* force = for_row(first).force;
+    long last = first;
+    while (last + 1 < end) {
+      const T* next = for_row(last + 1).force;
+      if (next[0] != force[0] || next[1] != force[1] || next[2] != force[2]) break;
+      ++last;
+    }
+    return last;
+  }
   static int part_of(int x, int nx) { return x == 0 ? 0 : (x == nx - 1 ? 2 : 1); }
   long cell(int x, int y, int z) const {
     return x + static_cast<long>(nx_) * (y + static_cast<long>(ny_) * z);

@@ -9,6 +9,7 @@
 // again with their own plan, overwriting what the long sweep wrote there. Every read of the sweep
 // stays inside the buffer: its two ends are interior cells, whose sources are real cells.
 #include "fluid/cell_update.h"
+#include "fluid/line_aligned_parts.h"
 #include "fluid/force_inline.h"
 #include "fluid/row_plan.h"
 
@@ -38,7 +39,10 @@ LBSOLID_FORCE_INLINE void stream_collide_rows(const RowPlans<L, T>& plans, const
   for (long first = row_begin; first < row_end;) {
     const RowPlan<T, Q>& plan = plans.for_row(first);
     const long last = plans.last_row_sharing_plan(first, row_end);
-    if (nx > 2) sweep(plan, plan.sources[1], first * nx + 1, last * nx + nx - 1);
+    if (nx > 2)
+      for_line_aligned_parts<T>(first * nx + 1, last * nx + nx - 1, [&](long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
+        sweep(plan, plan.sources[1], begin, end);
+      });
     for (long row = first; row <= last; ++row) {
       sweep(plan, plans.sources(row, 0), row * nx, row * nx + 1);
       if (nx > 1) sweep(plan, plans.sources(row, 2), row * nx + nx - 1, row * nx + nx);
