@@ -209,8 +209,9 @@ void FluidLattice<L, T>::launch() {
     } else if (pulled_) {
       T* f = storage_.buffer(0);
       pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
-        run_with_isa(isa, [&]() LBSOLID_FORCE_INLINE_LAMBDA {
-          stream_collide_in_place_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
+        run_with_isa(isa, [&]<KernelIsa I>(IsaTag<I>) LBSOLID_FORCE_INLINE_LAMBDA {
+          stream_collide_in_place_rows<L, T, Collision, kForce, shifted_pull_lanes<T>(I)>(plans, f, stride, nx, begin,
+                                                                                         end, rates, rho0);
         });
       });
     } else {

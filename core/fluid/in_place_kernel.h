@@ -11,8 +11,12 @@
 //              even step finds the population arriving downstream. The wall rules are involutions,
 //              so the slots a cell reads are exactly the slots it writes and cells never collide
 //              (FluidLattice checks this once per configuration).
+#include <type_traits>
+
 #include "fluid/cell_update.h"
 #include "fluid/force_inline.h"
+#include "fluid/kernel_isa.h"
+#include "fluid/shifted_pull.h"
 #include "fluid/line_aligned_parts.h"
 #include "fluid/row_plan.h"
 #include "lattice/lattice_traits.h"
@@ -43,40 +47,123 @@ LBSOLID_FORCE_INLINE void collide_local_rows(const RowPlans<L, T>& plans, T* f, 
   }
 }
 
-template <class L, class T, class Collision, bool kForce>
+// Where the pulling step's cells with one set of sources read and write: population k from the
+// slot its source names, written back (as population opp(k)) into the slot read for opp(k),
+// through that entry's wall rule. Indexed by cell.
+template <class L, class T>
+struct InPlacePull {
+  static constexpr int Q = L::Q;
+  const T* in[Q];
+  T* out[Q];
+  WallMap<T, Q> in_map, out_map;
+  LBSOLID_FORCE_INLINE InPlacePull(const PullSources<T, Q>& sources, T* f, long stride) {
+    constexpr auto opp = lattice::opposite_table<L>();
+    T* slot[Q];
+    for (int k = 0; k < Q; ++k) {
+      const auto& s = sources[k];
+      slot[k] = f + opp[s.dir] * stride + s.delta;
+      in[k] = slot[k];
+      in_map.scale[k] = s.scale;
+      in_map.shift[k] = s.correction;
+    }
+    for (int k = 0; k < Q; ++k) {
+      out[k] = slot[opp[k]];
+      out_map.scale[k] = in_map.scale[opp[k]];
+      out_map.shift[k] = in_map.shift[opp[k]];
+    }
+  }
+};
+
+// Lanes of the vectors the pulling step's shifted sweep (shifted_pull.h) uses on each path: one
+// register of the widest kind; none on the baseline path.
+template <class T>
+constexpr int shifted_pull_lanes(KernelIsa isa) {
+  return isa == KernelIsa::kAvx512 ? 64 / sizeof(T) : (isa == KernelIsa::kAvx2 ? 32 / sizeof(T) : 0);
+}
+
+// The pulling step over rows [first, last], sharing one plan, of a grid periodic in x, with BGK:
+// false (nothing done) where the shifted sweep does not apply.
+//
+// The rows are swept as one line of cells, from the second cell of the first row to the
+// last-but-one of the last, so that the shifted sweep's vectors run the whole line but for a
+// vector and a bit at each end. In that line the last cell of a row and the first of the next
+// read and write each other's slots instead of their own wrapped ones. Each slot still belongs to
+// one cell of the line (every array is read at one fixed offset), so the sweep is race-free and
+// right for every other cell; and every slot those edge cells touch belongs to some edge cell of
+// the same rows (the rows' slots, less the other cells'). So the edge cells are computed first,
+// from slots nothing has written yet, into a buffer, and written over what the line left there.
+template <class L, class T, class Collision, bool kForce, int kLanes, long kRunRows>
+LBSOLID_FORCE_INLINE bool pull_joined_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx, long first,
+                                           long last, T omega, T rho0) {
+  constexpr int Q = L::Q;
+  using Shifted = ShiftedPull<L, T, kLanes>;
+  const RowPlan<T, Q>& plan = plans.for_row(first);
+  const InPlacePull<L, T> line(plan.sources[1], f, stride);
+  const long begin = first * nx + 1, end = last * nx + nx - 1;
+  const long vector_begin = Shifted::first_cell(begin), vector_end = Shifted::end_cell(end);
+  if (vector_begin >= vector_end || !line.in_map.is_identity() || !Shifted::streams_fit(line.in, line.out))
+    return false;
+  const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
+  const InPlacePull<L, T> edges[2] = {{plan.sources[0], f, stride}, {plan.sources[2], f, stride}};
+  T edge[kRunRows][2][Q];
+  for (long row = first; row <= last; ++row)
+    for (int side = 0; side < 2; ++side) {
+      const long cell = row * nx + (side == 0 ? 0 : nx - 1);
+      const InPlacePull<L, T>& p = edges[side];
+      const T* in[Q];
+      T* into[Q];
+      for (int k = 0; k < Q; ++k) {
+        in[k] = p.in[k] + cell;
+        into[k] = &edge[row - first][side][k];
+      }
+      update_corrected_cells<L, T, Collision, kForce>(in, p.in_map, into, p.out_map, force, omega, rho0, 0, 1);
+    }
+  update_cells<L, T, Collision, kForce, false>(line.in, line.in_map, line.out, line.out_map, force, omega, rho0, begin,
+                                               vector_begin);
+  Shifted::template run<kForce>(line.in, line.out, force, omega, rho0, vector_begin, vector_end);
+  update_cells<L, T, Collision, kForce, false>(line.in, line.in_map, line.out, line.out_map, force, omega, rho0,
+                                               vector_end, end);
+  for (long row = first; row <= last; ++row)
+    for (int side = 0; side < 2; ++side) {
+      const long cell = row * nx + (side == 0 ? 0 : nx - 1);
+      for (int k = 0; k < Q; ++k) edges[side].out[k][cell] = edge[row - first][side][k];
+    }
+  return true;
+}
+
+template <class L, class T, class Collision, bool kForce, int kLanes = 0>
 LBSOLID_FORCE_INLINE void stream_collide_in_place_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
                                   long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
   constexpr int Q = L::Q;
-  constexpr auto opp = lattice::opposite_table<L>();
-  for (long row = row_begin; row < row_end; ++row) {
-    const auto& plan = plans.for_row(row);
-    const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
-    auto sweep = [&](int part, long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
-      const T* in[Q];
-      T* slot[Q];
-      WallMap<T, Q> in_map;
-      const PullSources<T, Q>& sources = plans.sources(row, part);
-      for (int k = 0; k < Q; ++k) {
-        const auto& s = sources[k];
-        slot[k] = f + opp[s.dir] * stride + s.delta;
-        in[k] = slot[k];
-        in_map.scale[k] = s.scale;
-        in_map.shift[k] = s.correction;
+  constexpr bool kShifted =
+      kLanes > 0 && std::is_same_v<Collision, BgkCollision<L, T>> && ShiftedPull<L, T, kLanes>::kLatticeFits;
+  constexpr long kRunRows = 32;  // bounds the edge buffer: 32 x 2 x Q values (10 KB for D3Q19 double)
+  for (long first = row_begin; first < row_end;) {
+    long last = first;  // rows [first, last] are done together, else one by one
+    if constexpr (kShifted) {
+      if (plans.x_periodic() && nx > 2) {
+        last = std::min(plans.last_row_sharing_plan(first, row_end), first + kRunRows - 1);
+        if (last > first &&
+            pull_joined_rows<L, T, Collision, kForce, kLanes, kRunRows>(plans, f, stride, nx, first, last, rates, rho0)) {
+          first = last + 1;
+          continue;
+        }
       }
-      // Population k goes back into the slot read for opp(k), through that entry's wall rule.
-      T* out[Q];
-      WallMap<T, Q> out_map;
-      for (int k = 0; k < Q; ++k) {
-        out[k] = slot[opp[k]];
-        out_map.scale[k] = in_map.scale[opp[k]];
-        out_map.shift[k] = in_map.shift[opp[k]];
-      }
-      update_corrected_cells<L, T, Collision, kForce>(in, in_map, out, out_map, force, rates, rho0, begin, end);
-    };
-    const long row_start = row * nx;
-    sweep(0, row_start, row_start + 1);
-    if (nx > 2) sweep(1, row_start + 1, row_start + nx - 1);
-    if (nx > 1) sweep(2, row_start + nx - 1, row_start + nx);
+    }
+    for (long row = first; row <= last; ++row) {
+      const auto& plan = plans.for_row(row);
+      const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
+      auto sweep = [&](int part, long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
+        const InPlacePull<L, T> p(plans.sources(row, part), f, stride);
+        update_corrected_cells<L, T, Collision, kForce>(p.in, p.in_map, p.out, p.out_map, force, rates, rho0, begin,
+                                                        end);
+      };
+      const long row_start = row * nx;
+      sweep(0, row_start, row_start + 1);
+      if (nx > 2) sweep(1, row_start + 1, row_start + nx - 1);
+      if (nx > 1) sweep(2, row_start + nx - 1, row_start + nx);
+    }
+    first = last + 1;
   }
 }
 

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include "fluid/force_inline.h"
 
@@ -32,15 +33,25 @@ void limit_kernel_isa(KernelIsa most);
 // Empty when LBSOLID_KERNEL_ISA is unset or names a path; otherwise what is wrong with it.
 std::string kernel_isa_environment_error();
 
+// A kernel that takes an argument is told which path it was compiled for (IsaTag<isa>): code
+// written with explicit vectors picks their width from it.
+template <KernelIsa I>
+using IsaTag = std::integral_constant<KernelIsa, I>;
+template <KernelIsa I, class Kernel>
+LBSOLID_FORCE_INLINE void call_kernel(const Kernel& kernel) {
+  if constexpr (std::is_invocable_v<const Kernel&, IsaTag<I>>) kernel(IsaTag<I>{});
+  else kernel();
+}
+
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(LBSOLID_SINGLE_ISA)
 #define LBSOLID_KERNEL_DISPATCH 1
 template <class Kernel>
 [[gnu::target("arch=x86-64-v4,prefer-vector-width=512")]] void run_avx512(const Kernel& kernel) {
-  kernel();
+  call_kernel<KernelIsa::kAvx512>(kernel);
 }
 template <class Kernel>
 [[gnu::target("arch=x86-64-v3")]] void run_avx2(const Kernel& kernel) {
-  kernel();
+  call_kernel<KernelIsa::kAvx2>(kernel);
 }
 #endif
 
@@ -55,7 +66,7 @@ void run_with_isa(KernelIsa isa, const Kernel& kernel) {
 #else
   (void)isa;
 #endif
-  kernel();
+  call_kernel<KernelIsa::kBaseline>(kernel);
 }
 
 }  // namespace lbsolid::fluid

@@ -37,7 +37,8 @@ class RowPlans {
  public:
   static constexpr int Q = L::Q;
   RowPlans() = default;
-  explicit RowPlans(const FluidConfig& cfg) : nx_(cfg.nx), ny_(cfg.ny), nz_(cfg.nz), plans_(32) {
+  explicit RowPlans(const FluidConfig& cfg)
+      : nx_(cfg.nx), ny_(cfg.ny), nz_(cfg.nz), x_periodic_(cfg.sides[kXLow].kind == WallKind::kPeriodic), plans_(32) {
     for (int z = 0; z < nz_; ++z) {
       for (int y = 0; y < ny_; ++y) {
         RowPlan<T, Q>& plan = plans_[key(y, z)];
@@ -103,6 +104,8 @@ class RowPlans {
     }
     return last;
   }
+  // Whether rows wrap around in x (both x sides periodic): a row's last cell is its first's upstream.
+  bool x_periodic() const { return x_periodic_; }
   static int part_of(int x, int nx) { return x == 0 ? 0 : (x == nx - 1 ? 2 : 1); }
   long cell(int x, int y, int z) const {
     return x + static_cast<long>(nx_) * (y + static_cast<long>(ny_) * z);
@@ -128,6 +131,7 @@ class RowPlans {
     return (ycat * 4 + zcat) * 2 + parity;
   }
   int nx_ = 0, ny_ = 0, nz_ = 0;
+  bool x_periodic_ = false;
   std::vector<RowPlan<T, Q>> plans_;
   std::vector<PullSources<T, Q>> edge_sources_;  // per row: [2 row] its first cell, [2 row + 1] its last
 };
