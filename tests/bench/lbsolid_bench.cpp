@@ -38,17 +38,19 @@ struct Row {
   double mlups, bytes_per_update, bandwidth, roofline;
 };
 
-// Grid with at least `min_cells` cells: square in 2D, cubic in 3D.
+// Grid with at least `min_cells` cells: square in 2D, cubic in 3D, with sides a multiple of 16
+// cells (a whole number of vectors of any width, as a user who wants speed chooses them: the
+// in-place pulling step's shifted sweep needs it; docs/performance.md has other sizes too).
 template <class L>
 fluid::FluidConfig big_grid(long min_cells, int threads, fluid::StreamingScheme streaming,
                             fluid::CollisionModel collision) {
   fluid::FluidConfig c;
+  auto whole_vectors = [](double side) { return (static_cast<int>(std::ceil(side)) + 15) / 16 * 16; };
   if (L::D == 3) {
-    const int n = static_cast<int>(std::ceil(std::cbrt(static_cast<double>(min_cells))));
+    const int n = whole_vectors(std::cbrt(static_cast<double>(min_cells)));
     c.nx = c.ny = c.nz = n;
   } else {
-    int n = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(min_cells))));
-    n += n % 2;  // D2Q7 periodic in y needs an even row count
+    const int n = whole_vectors(std::sqrt(static_cast<double>(min_cells)));  // even: D2Q7 periodic in y needs it
     c.nx = c.ny = n;
   }
   c.omega = 1.0;
