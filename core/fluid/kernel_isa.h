@@ -55,6 +55,16 @@ template <class Kernel>
 }
 #endif
 
+// The path this translation unit is compiled for: the baseline in the portable build, the
+// building CPU's in a -march=native one (LBSOLID_NATIVE), where the kernels run unswitched.
+#if defined(__AVX512F__)
+inline constexpr KernelIsa kCompiledIsa = KernelIsa::kAvx512;
+#elif defined(__AVX2__)
+inline constexpr KernelIsa kCompiledIsa = KernelIsa::kAvx2;
+#else
+inline constexpr KernelIsa kCompiledIsa = KernelIsa::kBaseline;
+#endif
+
 template <class Kernel>
 void run_with_isa(KernelIsa isa, const Kernel& kernel) {
 #ifdef LBSOLID_KERNEL_DISPATCH
@@ -66,7 +76,7 @@ void run_with_isa(KernelIsa isa, const Kernel& kernel) {
 #else
   (void)isa;
 #endif
-  call_kernel<KernelIsa::kBaseline>(kernel);
+  call_kernel<kCompiledIsa>(kernel);
 }
 
 }  // namespace lbsolid::fluid
