@@ -7,6 +7,7 @@
 
 #include "fluid/fluid_config.h"
 #include "fluid/fluid_lattice.h"
+#include "fluid/kernel_isa.h"
 #include "lattice/d2q7.h"
 #include "lattice/d2q9.h"
 #include "lattice/d3q19.h"
@@ -76,5 +77,12 @@ inline double relative_l2(const std::vector<double>& got, const std::vector<doub
 
 // Line fits come from the core's observers, as the service will use them.
 using observe::fit_line;
+
+// Limits the kernels' instruction set for a test, and restores the best path after it.
+class KernelIsaLimit {
+ public:
+  explicit KernelIsaLimit(fluid::KernelIsa most) { fluid::limit_kernel_isa(most); }
+  ~KernelIsaLimit() { fluid::limit_kernel_isa(fluid::KernelIsa::kAvx512); }
+};
 
 }  // namespace lbsolid::testing

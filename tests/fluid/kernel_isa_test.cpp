@@ -16,13 +16,6 @@ using fluid::CollisionModel;
 using fluid::KernelIsa;
 using fluid::StreamingScheme;
 
-// Restores the best path after a test that limited it.
-class KernelIsaLimit {
- public:
-  explicit KernelIsaLimit(KernelIsa most) { fluid::limit_kernel_isa(most); }
-  ~KernelIsaLimit() { fluid::limit_kernel_isa(KernelIsa::kAvx512); }
-};
-
 template <class L>
 FluidConfig forced_walled_box(CollisionModel collision, StreamingScheme streaming) {
   FluidConfig c = channel_config<L>(11, WallKind::kFreeSlip, WallKind::kBounceBack, 1.7);

@@ -18,12 +18,6 @@ namespace {
 using fluid::KernelIsa;
 using fluid::StreamingScheme;
 
-class KernelIsaLimit {
- public:
-  explicit KernelIsaLimit(KernelIsa most) { fluid::limit_kernel_isa(most); }
-  ~KernelIsaLimit() { fluid::limit_kernel_isa(KernelIsa::kAvx512); }
-};
-
 template <class L>
 FluidConfig box(int nx, bool walled) {
   FluidConfig c;
