@@ -333,12 +333,17 @@ void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const double* dp, l
   T* f = storage_.buffer(in_place() ? 0 : current_);
   const bool prefetch = worth_prefetching(nodes, count);
   long row_part = -1;  // of the slots below
+  const PullSources<T, Q>* slots_from = nullptr;
   InjectionSlots slots{};
   for (long k = 0; k < count; ++k) {
     const auto& [x, y, z] = nodes[k];
     const int part = RowPlans<L, T>::part_of(x, config_.nx);
     if (const long row = y + static_cast<long>(config_.ny) * z; 3 * row + part != row_part) {
-      slots = injection_slots(plans_.sources(row, part));
+      // Rows share their interior's sources: the slots are worked out again only where they differ.
+      if (const auto& sources = plans_.sources_of_part(y, z, part); &sources != slots_from) {
+        slots = injection_slots(sources);
+        slots_from = &sources;
+      }
       row_part = 3 * row + part;
     }
     if (prefetch && k + kPrefetchAhead < count) prefetch_node(f, nodes[k + kPrefetchAhead], slots.offset, /*for_write=*/true);
@@ -416,13 +421,18 @@ void FluidLattice<L, T>::gather_momenta(const NodeIndex* nodes, long count, Dens
   const bool prefetch = worth_prefetching(nodes, count);
   long row_part = -1;  // of the plan and slots below
   const RowPlan<T, Q>* plan = nullptr;
+  const PullSources<T, Q>* slots_from = nullptr;
   RowSlots slots{};
   for (long k = 0; k < count; ++k) {
     const auto& [x, y, z] = nodes[k];
     const int part = RowPlans<L, T>::part_of(x, config_.nx);
     if (const long row = y + static_cast<long>(config_.ny) * z; 3 * row + part != row_part) {
-      plan = &plans_.for_row(row);
-      slots = read_slots(plans_.sources(row, part));
+      plan = &plans_.for_row(y, z);
+      // Rows share their interior's sources: the slots are worked out again only where they differ.
+      if (const auto& sources = plans_.sources_of_part(y, z, part); &sources != slots_from) {
+        slots = read_slots(sources);
+        slots_from = &sources;
+      }
       row_part = 3 * row + part;
     }
     if (prefetch && k + kPrefetchAhead < count) prefetch_node(f, nodes[k + kPrefetchAhead], slots.offset, /*for_write=*/false);

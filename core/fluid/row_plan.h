@@ -75,6 +75,11 @@ class RowPlans {
   const PullSources<T, Q>& sources(int x, int y, int z) const {
     return sources(y + static_cast<long>(ny_) * z, part_of(x, nx_));
   }
+  // The same for row (y, z) given as coordinates: no division to find its plan.
+  const PullSources<T, Q>& sources_of_part(int y, int z, int part) const {
+    if (part != 1 && !edge_sources_.empty()) return edge_sources_[2 * (y + static_cast<long>(ny_) * z) + part / 2];
+    return for_row(y, z).sources[part];
+  }
   // Sets the correction of population i at the first (part 0) or last (part 2) cell of `row`:
   // a pressure outlet's follows the flow beside it (FluidLattice::refresh_outlet_corrections).
   void set_edge_correction(long row, int part, int i, T correction) {

@@ -65,8 +65,9 @@ void expect_in_place_equals_two_buffer() {
         // differ in the last bit from the start (streaming_scheme_test.cpp), so they are held
         // against each other on the periodic box only.
         const auto reference = populations_after<L, T>(c, StreamingScheme::kInPlace, 1, KernelIsa::kBaseline, steps);
-        if (!walled)
+        if (!walled) {
           ASSERT_EQ(reference, (populations_after<L, T>(c, StreamingScheme::kTwoBuffer, 1, KernelIsa::kBaseline, steps)));
+        }
         for (KernelIsa isa : {KernelIsa::kBaseline, KernelIsa::kAvx2, KernelIsa::kAvx512}) {
           if (isa > best) continue;  // a path this CPU cannot run
           const auto in_place = populations_after<L, T>(c, StreamingScheme::kInPlace, threads, isa, steps);
