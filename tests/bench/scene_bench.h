@@ -21,6 +21,10 @@ struct SceneRow {
   // Seconds per step in each stage (scene::Stage), measured over separate steps with the stage
   // clock on; all zero where not measured.
   scene::StageClock::Seconds stage_seconds{};
+  // With more than one thread, a coupled scene's step and its reference step with one thread,
+  // measured in rounds alternating with this row's own (0 where not measured): the speed-up then
+  // compares steps taken side by side, not minutes apart on a machine whose speed drifts.
+  double one_thread_step_seconds = 0, one_thread_reference_seconds = 0;
 };
 
 std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads);
