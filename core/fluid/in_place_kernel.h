@@ -105,19 +105,31 @@ LBSOLID_FORCE_INLINE bool pull_joined_rows(const RowPlans<L, T>& plans, T* f, lo
     return false;
   const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
   const InPlacePull<L, T> edges[2] = {{plan.sources[0], f, stride}, {plan.sources[2], f, stride}};
-  T edge[kRunRows][2][Q];
-  for (long row = first; row <= last; ++row)
-    for (int side = 0; side < 2; ++side) {
-      const long cell = row * nx + (side == 0 ? 0 : nx - 1);
-      const InPlacePull<L, T>& p = edges[side];
+  // Population k of row r's edge cell on `side`, after collision: edge[side][k][r - first].
+  alignas(64) T edge[2][Q][kRunRows];
+  for (int side = 0; side < 2; ++side) {
+    const InPlacePull<L, T>& p = edges[side];
+    const long x = side == 0 ? 0 : nx - 1;
+    // kLanes rows' edge cells at a time in a vector's lanes where no wall rule applies (one cell
+    // a row: one at a time they cost as much as all the row's other cells together), the rest
+    // one by one.
+    const bool lanes = p.in_map.is_identity() && p.out_map.is_identity();
+    for (long row = first; row <= last;) {
       const T* in[Q];
       T* into[Q];
       for (int k = 0; k < Q; ++k) {
-        in[k] = p.in[k] + cell;
-        into[k] = &edge[row - first][side][k];
+        in[k] = p.in[k] + row * nx + x;
+        into[k] = &edge[side][k][row - first];
       }
-      update_corrected_cells<L, T, Collision, kForce>(in, p.in_map, into, p.out_map, force, omega, rho0, 0, 1);
+      if (lanes && row + kLanes - 1 <= last && (row - first) % kLanes == 0) {
+        Shifted::template column<kForce>(in, nx, into, force, omega, rho0);
+        row += kLanes;
+      } else {
+        update_corrected_cells<L, T, Collision, kForce>(in, p.in_map, into, p.out_map, force, omega, rho0, 0, 1);
+        ++row;
+      }
     }
+  }
   update_cells<L, T, Collision, kForce, false>(line.in, line.in_map, line.out, line.out_map, force, omega, rho0, begin,
                                                vector_begin);
   Shifted::template run<kForce>(line.in, line.out, force, omega, rho0, vector_begin, vector_end);
@@ -126,7 +138,7 @@ LBSOLID_FORCE_INLINE bool pull_joined_rows(const RowPlans<L, T>& plans, T* f, lo
   for (long row = first; row <= last; ++row)
     for (int side = 0; side < 2; ++side) {
       const long cell = row * nx + (side == 0 ? 0 : nx - 1);
-      for (int k = 0; k < Q; ++k) edges[side].out[k][cell] = edge[row - first][side][k];
+      for (int k = 0; k < Q; ++k) edges[side].out[k][cell] = edge[side][k][row - first];
     }
   return true;
 }

@@ -116,6 +116,23 @@ struct ShiftedPull {
         lanes_from<1>(last[K], V::load(out[K] + end)).store_aligned(base + end - W);
     });
   }
+
+  // W cells `stride` apart, cell l at in[k] + l stride (the same column of W rows), each with no
+  // wall rule: population k of cell l is written to into[k][l] (W aligned values a stream).
+  template <bool kForce>
+  static LBSOLID_FORCE_INLINE void column(const T* const (&in)[Q], long stride, T* const (&into)[Q],
+                                          const T (&force)[3], T omega, T rho0) {
+    using V = Lanes<T, W>;
+    using Bgk = BgkCollision<L, V>;
+    const V force_v[3] = {V(force[0]), V(force[1]), V(force[2])};
+    const V omega_v(omega);
+    V f[Q];
+    for (int k = 0; k < Q; ++k) f[k] = V::load_strided(in[k], stride);
+    const auto state = Bgk::template node_state<kForce>(f, V(rho0), force_v);
+    [&]<int... K>(std::integer_sequence<int, K...>) LBSOLID_FORCE_INLINE_LAMBDA {
+      (Bgk::template relaxed<kForce, K>(f[K], state, omega_v, force_v).store_aligned(into[K]), ...);
+    }(std::make_integer_sequence<int, Q>{});
+  }
 };
 
 }  // namespace lbsolid::fluid

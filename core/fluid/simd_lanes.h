@@ -29,6 +29,11 @@ struct Lanes {
     std::memcpy(&r.v, __builtin_assume_aligned(p, sizeof(Vector)), sizeof(Vector));
     return r;
   }
+  // W values `stride` apart, lane l from p[l stride].
+  static Lanes load_strided(const T* p, long stride) {
+    return [&]<int... I>(std::integer_sequence<int, I...>) { return Lanes(Vector{p[I * stride]...}); }(
+        std::make_integer_sequence<int, W>{});
+  }
   void store_aligned(T* p) const { std::memcpy(__builtin_assume_aligned(p, sizeof(Vector)), &v, sizeof(Vector)); }
 
   friend constexpr Lanes operator+(Lanes a, Lanes b) { return Lanes(a.v + b.v); }
