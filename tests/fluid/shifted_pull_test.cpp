@@ -22,8 +22,8 @@ template <class L>
 FluidConfig box(int nx, bool walled) {
   FluidConfig c;
   c.nx = nx;  // 64: whole vectors of 2, 4, 8 and 16 lanes
-  // 32 interior rows (y = 1 .. 32) share a plan: the rows' edge cells then fill whole vectors of
-  // up to 16 lanes (and, with walls or 3 threads' parts, leave rows over for the one-by-one path).
+  // 32 interior rows (y = 1 .. 32) share a plan: D3Q19's rows' edge cells then fill whole vectors
+  // of up to 16 lanes (and, with walls or 3 threads' parts, leave rows over for the one-by-one path).
   c.ny = 34;
   c.nz = L::D == 3 ? 5 : 1;
   c.omega = 1.3;
