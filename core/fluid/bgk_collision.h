@@ -68,6 +68,8 @@ struct BgkCollision {
     T usq;
     T isotropic;  // (rho - rho0) - rho |u|^2 / (2 c_s^2)
     T u_dot_force;
+    T rho_linear;     // rho / c_s^2: the equilibrium's term linear in c.u is w rho_linear c.u
+    T rho_quadratic;  // rho / (2 c_s^4): its quadratic term w rho_quadratic (c.u)^2
   };
 
   template <bool kForce>
@@ -81,6 +83,8 @@ struct BgkCollision {
     s.usq = s.u[0] * s.u[0] + s.u[1] * s.u[1] + s.u[2] * s.u[2];
     s.isotropic = (s.rho - rho0) - T(0.5) * s.rho * s.usq * kInvCs2;
     s.u_dot_force = kForce ? Guo::u_dot_force(s.u, force) : T(0);
+    s.rho_linear = s.rho * kInvCs2;
+    s.rho_quadratic = s.rho * T(0.5 * (1.0 / L::cs2) * (1.0 / L::cs2));
     return s;
   }
 
@@ -96,8 +100,16 @@ struct BgkCollision {
   // (guo_forcing.h): summed over K the momentum gained is exactly F.
   template <bool kForce, int K>
   static LBSOLID_FORCE_INLINE T relaxed(T f_k, const NodeState& s, T omega, const T (&force)[3]) {
-    const T cu = c_dot<K>(s.u);
-    const T feq = T(L::w[K]) * (s.isotropic + s.rho * cu * (kInvCs2 + T(0.5) * cu * kInvCs2 * kInvCs2));
+    // The equilibrium's even and odd parts in c: c_J = -c_K for the opposite direction J, so
+    // both directions of a pair take them from the pair's first c.u (the compiler shares them):
+    // about half the equilibrium's operations, which bound the D3Q19 kernels (docs/performance.md).
+    constexpr int J = lattice::opposite_table<L>()[K];
+    constexpr int P = K < J ? K : J;  // the pair's first direction: c_K = +-c_P
+    const T cp = c_dot<P>(s.u);
+    const T even = T(L::w[K]) * (s.isotropic + s.rho_quadratic * cp * cp);
+    const T odd = T(L::w[K]) * s.rho_linear * cp;
+    const T feq = K == P ? even + odd : even - odd;
+    const T cu = K == P ? cp : -cp;
     f_k += omega * (feq - f_k);
     if constexpr (kForce) f_k += Guo::template source<K>(T(1) - T(0.5) * omega, cu, c_dot<K>(force), s.u_dot_force);
     return f_k;
