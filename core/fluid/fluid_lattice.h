@@ -179,6 +179,10 @@ class FluidLattice {
   template <int A, class Visit>
   void for_each_interior_block(int y, int z, int first, int end, const Visit& visit) const;
   void check_in_place_slots() const;
+  // initialize()'s work; with `uniform`, density and velocity are the same at every cell.
+  template <class Density, class Velocity>
+  void write_equilibrium(const Density& density, const Velocity& velocity, bool uniform);
+  void check_in_place_slot(long cell) const;  // one cell's populations (throws if a rule breaks)
   // One step's fused kernels with the given collision policy (bgk_collision.h and siblings).
   template <class Collision>
   void launch();

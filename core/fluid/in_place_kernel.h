@@ -150,7 +150,6 @@ LBSOLID_FORCE_INLINE bool pull_joined_rows(const RowPlans<L, T>& plans, T* f, lo
 template <class L, class T, class Collision, bool kForce, int kLanes = 0>
 LBSOLID_FORCE_INLINE void stream_collide_in_place_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
                                   long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
-  constexpr int Q = L::Q;
   constexpr bool kShifted =
       kLanes > 0 && std::is_same_v<Collision, BgkCollision<L, T>> && ShiftedPull<L, T, kLanes>::kLatticeFits;
   constexpr long kRunRows = 32;  // bounds the edge buffer: 32 x 2 x Q values (10 KB for D3Q19 double)
