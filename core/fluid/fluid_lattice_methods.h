@@ -186,21 +186,26 @@ void FluidLattice<L, T>::write_equilibrium(const Density& density, const Velocit
     for (int i = 0; i < Q; ++i) feq[i] = Collision::equilibrium(i, rho, rho0, u, usq);
   };
   std::array<T, Q> feq;
-  // First the local equilibrium everywhere (covers populations no node pulls); uniform fields give
-  // every cell of a row the same one (the force is a row's), written a population's row at a time.
-  for (int z = 0; z < config_.nz; ++z) {
-    for (int y = 0; y < config_.ny; ++y) {
-      const long row_first = cell(0, y, z);
-      if (uniform) {
-        equilibrium_at(0, y, z, feq);
-        for (int i = 0; i < Q; ++i) std::fill_n(f + i * stride + row_first, config_.nx, feq[i]);
-        continue;
+  // First the local equilibrium everywhere (covers populations no node pulls). Uniform fields give
+  // every cell of a row the same one (the force is a row's), written a population's row at a time
+  // by the session's threads: this is where a new lattice's pages are first touched, most of the
+  // time it takes to build (the fields of the general case are the caller's, called on its thread).
+  const long rows = static_cast<long>(config_.ny) * config_.nz;
+  if (uniform) {
+    pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
+      std::array<T, Q> row_feq;
+      for (long row = begin; row < end; ++row) {
+        equilibrium_at(0, static_cast<int>(row % config_.ny), static_cast<int>(row / config_.ny), row_feq);
+        for (int i = 0; i < Q; ++i) std::fill_n(f + i * stride + row * config_.nx, config_.nx, row_feq[i]);
       }
-      for (int x = 0; x < config_.nx; ++x) {
-        equilibrium_at(x, y, z, feq);
-        for (int i = 0; i < Q; ++i) f[i * stride + row_first + x] = feq[i];
-      }
-    }
+    });
+  } else {
+    for (int z = 0; z < config_.nz; ++z)
+      for (int y = 0; y < config_.ny; ++y)
+        for (int x = 0; x < config_.nx; ++x) {
+          equilibrium_at(x, y, z, feq);
+          for (int i = 0; i < Q; ++i) f[i * stride + cell(x, y, z)] = feq[i];
+        }
   }
   // Then each population where the next step will look for it, so that gathering at time 0
   // returns the equilibrium. In place, the next step reads every population locally with no wall
