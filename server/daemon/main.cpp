@@ -3,6 +3,7 @@
 // under --data_dir every --autosave_interval. SIGTERM (or SIGINT) stops taking calls, pauses and
 // saves every session, then exits 0 (1 if a session could not be saved); the next start brings
 // them back under their old ids (those that were running PAUSED).
+#include <grpc/grpc.h>
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
@@ -20,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <system_error>
 #include <thread>
 
@@ -150,6 +152,26 @@ int fail_start(const std::string& message) {
   return 2;
 }
 
+// gRPC starts threads of its own when it is first used (its executors, the resolver's, the timer
+// manager, which starts more timer threads later), at the nice value and time slice of the thread
+// that uses it. Holds gRPC open from a thread lowered to the calls' priority before anything else
+// uses it, so that none of gRPC's threads competes with the simulation's. (A refusal to lower is
+// reported once, when the main thread lowers itself.)
+class GrpcStartedBelowTheSimulation {
+ public:
+  GrpcStartedBelowTheSimulation(int call_nice, absl::Duration call_slice) {
+    std::thread([&] {
+      lbsolid::server::lower_this_thread_priority(call_nice);
+      if (call_slice != absl::ZeroDuration())
+        lbsolid::server::shorten_this_thread_time_slice(absl::ToChronoMicroseconds(call_slice));
+      grpc_init();
+    }).join();
+  }
+  ~GrpcStartedBelowTheSimulation() { grpc_shutdown(); }
+  GrpcStartedBelowTheSimulation(const GrpcStartedBelowTheSimulation&) = delete;
+  GrpcStartedBelowTheSimulation& operator=(const GrpcStartedBelowTheSimulation&) = delete;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -222,6 +244,12 @@ int main(int argc, char** argv) {
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGHUP);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  std::optional<GrpcStartedBelowTheSimulation> grpc_started;
+  try {
+    grpc_started.emplace(absl::GetFlag(FLAGS_call_nice), call_slice);
+  } catch (const std::system_error& e) {
+    return fail_start(std::string("cannot start a thread: ") + e.what());
+  }
 
   std::shared_ptr<lbsolid::server::auth::TokenTable> tokens;
   if (!absl::GetFlag(FLAGS_tokens_file).empty()) {
@@ -264,8 +292,9 @@ int main(int argc, char** argv) {
     return fail_start(std::string("--data_dir: ") + e.what());
   }
   const int recovered = manager->recover();
-  // The workers, the autosave and the session builder have started at the base priority; every
-  // thread from here on (gRPC's, and so every call) starts from this one, below it.
+  // The workers, the autosave and the session builder have started at the base priority; gRPC's
+  // first threads below it; every thread from here on (the server's, and so every call) starts
+  // from this one, below it too.
   if (const int error = lbsolid::server::lower_this_thread_priority(absl::GetFlag(FLAGS_call_nice)); error != 0)
     spdlog::warn("--call_nice: cannot lower the priority of the call threads: {}", std::strerror(error));
   if (call_slice != absl::ZeroDuration()) {
