@@ -78,6 +78,12 @@ class MomentumExchange {
     if constexpr (D == 3) dp[2] -= mass * u[2];
     return dp;
   }
+  // Asks the cache for what particle_dp(p) will read (its node's u*): the solid's step reads the
+  // particles in index order, their nodes' slots lie in cell order.
+  template <int D>
+  void prefetch_particle_dp(long p) const {
+    if (p < static_cast<long>(slot_.size())) __builtin_prefetch(slots_.velocity.data() + D * static_cast<long>(slot_[p]));
+  }
   // What anchored particle p gives its node (minus what it absorbs there): the node's fluid
   // momentum and the other particles' momenta, negated, over the node's anchors.
   fluid::Vec3 anchor_dp(long p) const { return slots_.vector(slots_.anchor_share, slot_[p]); }

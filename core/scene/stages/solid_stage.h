@@ -66,6 +66,7 @@ class SolidStage final : public StepStage {
         const solid::Vec3 compared = coupling_->rotating
                                          ? solid::ParticleVectors{coupling_->momenta_at_nodes.data(), D}.get<D>(p)
                                          : momenta.get<D>(p);
+        coupling_->exchange.template prefetch_particle_dp<D>(p + kDpAhead);
         const solid::Vec3 dp = coupling_->exchange.template particle_dp<D>(p, compared, solid_.mass(p));
         for (int a = 0; a < 3; ++a) f[a] -= dp[a];
       }
@@ -79,6 +80,7 @@ class SolidStage final : public StepStage {
   }
 
  private:
+  static constexpr long kDpAhead = 16;  // particles
   const Scene& scene_;
   solid::SolidSystem& solid_;
   const CouplingState* coupling_;
