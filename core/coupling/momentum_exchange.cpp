@@ -113,7 +113,17 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   double* __restrict slot_mass = slots_.mass.data();
   double* __restrict slot_momentum = slots_.momentum.data();
   std::uint32_t* __restrict slot_anchors = slots_.anchors.data();
-  for (long w = part.first_cell >> 6; w < (static_cast<long>(part.end_cell) + 63) >> 6; ++w) {
+  const long end_word = (static_cast<long>(part.end_cell) + 63) >> 6;
+  for (long w = part.first_cell >> 6; w < end_word; ++w) {
+    // A sparse part (a dilute suspension) writes its slot table a few cells a line, far apart:
+    // the lines of a word's first and last marked cells are asked for a few words ahead.
+    if (w + kListAhead < end_word) {
+      if (const std::uint64_t ahead = touched_[w + kListAhead]; ahead != 0) {
+        const long base = 64 * (w + kListAhead);
+        __builtin_prefetch(slot_of_cell_.data() + base + __builtin_ctzll(ahead), 1);
+        __builtin_prefetch(slot_of_cell_.data() + base + 63 - __builtin_clzll(ahead), 1);
+      }
+    }
     for (std::uint64_t bits = touched_[w]; bits != 0; bits &= bits - 1) {
       const long c = 64 * w + __builtin_ctzll(bits);
       while (c >= row_end) {

@@ -101,6 +101,8 @@ class MomentumExchange {
  private:
   // Nodes whose fluid is read in one batch: 512 x 32 B stays in the L1 cache until it is used.
   static constexpr long kReadChunk = 512;
+  // Bitmap words ahead whose slot-table lines the listing asks the cache for.
+  static constexpr long kListAhead = 4;
   // Every listed node, slot by slot (part k's from base[k] on): the node, the total mass and
   // momentum of its particles, the velocity its particles are compared with (u*, or the fluid's u
   // for the pairwise rule), and what its fluid gains. The fluid read there is used as it is read,
