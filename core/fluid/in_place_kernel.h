@@ -101,7 +101,15 @@ LBSOLID_FORCE_INLINE bool pull_joined_rows(const RowPlans<L, T>& plans, T* f, lo
   const InPlacePull<L, T> line(plan.sources[1], f, stride);
   const long begin = first * nx + 1, end = last * nx + nx - 1;
   const long vector_begin = Shifted::first_cell(begin), vector_end = Shifted::end_cell(end);
-  if (vector_begin >= vector_end || !line.in_map.is_identity() || !Shifted::streams_fit(line.in, line.out))
+  // On D3Q19 the cells the aligned sweep leaves (the line's ends, each row's edge cells) are done
+  // as vectors too: one by one they took 40% of the float step at 48^3 (W = 16). Not on D2Q9: its
+  // rows are long, and with that code in its kernel GCC spilled the line sweep's registers (the
+  // pulling step at half speed, 1936^2 doubles).
+  constexpr bool kVectorEnds = L::Q > 9;
+  // Too short for the aligned sweep, a D3Q19 line of W cells or more is done with span() alone.
+  const bool sweep = vector_begin < vector_end;
+  const bool span_only = kVectorEnds && !sweep && end - begin >= kLanes;
+  if ((!sweep && !span_only) || !line.in_map.is_identity() || !Shifted::streams_fit(line.in, line.out))
     return false;
   const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
   const InPlacePull<L, T> edges[2] = {{plan.sources[0], f, stride}, {plan.sources[2], f, stride}};
@@ -111,22 +119,22 @@ LBSOLID_FORCE_INLINE bool pull_joined_rows(const RowPlans<L, T>& plans, T* f, lo
     const InPlacePull<L, T>& p = edges[side];
     const long x = side == 0 ? 0 : nx - 1;
     // On D3Q19, kLanes rows' edge cells at a time in a vector's lanes where no wall rule applies
-    // (one by one they took a third of the step at 48^3), the rest one by one. Not on D2Q9: its
-    // rows are long, and with that code in its kernel GCC spilled the line sweep's registers (the
-    // pulling step at half speed, 1936^2 doubles).
-    constexpr bool kColumns = L::Q > 9;
-    const bool lanes = kColumns && p.in_map.is_identity() && p.out_map.is_identity();
+    // and there are kLanes rows or more, else one by one. The last vector of rows ends at `last`
+    // and may share rows with the one before: both read slots nothing has written yet, so those
+    // rows get the same results twice (in the buffer).
+    const bool columns = kVectorEnds && p.in_map.is_identity() && p.out_map.is_identity() && last - first + 1 >= kLanes;
     for (long row = first; row <= last;) {
+      const long at = columns && row + kLanes - 1 > last ? last - kLanes + 1 : row;
       const T* in[Q];
       T* into[Q];
       for (int k = 0; k < Q; ++k) {
-        in[k] = p.in[k] + row * nx + x;
-        into[k] = &edge[side][k][row - first];
+        in[k] = p.in[k] + at * nx + x;
+        into[k] = &edge[side][k][at - first];
       }
-      if constexpr (kColumns) {
-        if (lanes && row + kLanes - 1 <= last && (row - first) % kLanes == 0) {
+      if constexpr (kVectorEnds) {
+        if (columns) {
           Shifted::template column<kForce>(in, nx, into, force, omega, rho0);
-          row += kLanes;
+          row = at + kLanes;
           continue;
         }
       }
@@ -134,11 +142,22 @@ LBSOLID_FORCE_INLINE bool pull_joined_rows(const RowPlans<L, T>& plans, T* f, lo
       ++row;
     }
   }
-  update_cells<L, T, Collision, kForce, false>(line.in, line.in_map, line.out, line.out_map, force, omega, rho0, begin,
-                                               vector_begin);
-  Shifted::template run<kForce>(line.in, line.out, force, omega, rho0, vector_begin, vector_end);
-  update_cells<L, T, Collision, kForce, false>(line.in, line.in_map, line.out, line.out_map, force, omega, rho0,
-                                               vector_end, end);
+  // The line's first and last W to 2W - 1 cells: on D3Q19 as unaligned vectors, else one by one.
+  if constexpr (kVectorEnds) {
+    if (span_only) {
+      Shifted::template span<kForce>(line.in, line.out, force, omega, rho0, begin, end);
+    } else {
+      Shifted::template span<kForce>(line.in, line.out, force, omega, rho0, begin, vector_begin);
+      Shifted::template run<kForce>(line.in, line.out, force, omega, rho0, vector_begin, vector_end);
+      Shifted::template span<kForce>(line.in, line.out, force, omega, rho0, vector_end, end);
+    }
+  } else {
+    update_cells<L, T, Collision, kForce, false>(line.in, line.in_map, line.out, line.out_map, force, omega, rho0, begin,
+                                                 vector_begin);
+    Shifted::template run<kForce>(line.in, line.out, force, omega, rho0, vector_begin, vector_end);
+    update_cells<L, T, Collision, kForce, false>(line.in, line.in_map, line.out, line.out_map, force, omega, rho0,
+                                                 vector_end, end);
+  }
   for (long row = first; row <= last; ++row)
     for (int side = 0; side < 2; ++side) {
       const long cell = row * nx + (side == 0 ? 0 : nx - 1);
@@ -152,13 +171,17 @@ LBSOLID_FORCE_INLINE void stream_collide_in_place_rows(const RowPlans<L, T>& pla
                                   long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
   constexpr bool kShifted =
       kLanes > 0 && std::is_same_v<Collision, BgkCollision<L, T>> && ShiftedPull<L, T, kLanes>::kLatticeFits;
-  constexpr long kRunRows = 32;  // bounds the edge buffer: 32 x 2 x Q values (10 KB for D3Q19 double)
+  // Bounds the edge buffer: kRunRows x 2 x Q values (19 KB for D3Q19 double). D3Q19's rows are
+  // short, so it joins up to 64 of them, and single rows too (their edges as one-by-one cells);
+  // D2Q9 as before (32, and single rows through the row loop below).
+  constexpr long kRunRows = L::Q > 9 ? 64 : 32;
+  constexpr long kFewestRows = L::Q > 9 ? 1 : 2;
   for (long first = row_begin; first < row_end;) {
     long last = first;  // rows [first, last] are done together, else one by one
     if constexpr (kShifted) {
       if (plans.x_periodic() && nx > 2) {
         last = std::min(plans.last_row_sharing_plan(first, row_end), first + kRunRows - 1);
-        if (last > first &&
+        if (last - first + 1 >= kFewestRows &&
             pull_joined_rows<L, T, Collision, kForce, kLanes, kRunRows>(plans, f, stride, nx, first, last, rates, rho0)) {
           first = last + 1;
           continue;

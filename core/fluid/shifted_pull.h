@@ -110,8 +110,36 @@ struct ShiftedPull {
     });
   }
 
+  // Cells [first, end), at least W of them, of a line whose cells read in[k][c] and write
+  // out[k][c] with no wall rule (each slot one cell's): W cells at a time from `first`, the last
+  // W ending at `end`, with unaligned loads and stores (a line's ends only, or a row too short for
+  // run()). That last vector may share cells with the one before: it is read before anything is
+  // written, so those cells get the same results twice.
+  template <bool kForce>
+  static LBSOLID_FORCE_INLINE void span(const T* const (&in)[Q], T* const (&out)[Q], const T (&force)[3], T omega,
+                                        T rho0, long first, long end) {
+    using V = Lanes<T, W>;
+    using Bgk = BgkCollision<L, V>;
+    const V force_v[3] = {V(force[0]), V(force[1]), V(force[2])};
+    const V omega_v(omega), rho0_v(rho0);
+    auto collide_store = [&](V (&f)[Q], long at) LBSOLID_FORCE_INLINE_LAMBDA {
+      const auto state = Bgk::template node_state<kForce>(f, rho0_v, force_v);
+      [&]<int... K>(std::integer_sequence<int, K...>) LBSOLID_FORCE_INLINE_LAMBDA {
+        (Bgk::template relaxed<kForce, K>(f[K], state, omega_v, force_v).store(out[K] + at), ...);
+      }(std::make_integer_sequence<int, Q>{});
+    };
+    V last[Q];
+    for (int k = 0; k < Q; ++k) last[k] = V::load(in[k] + end - W);
+    for (long c = first; c < end - W; c += W) {
+      V f[Q];
+      for (int k = 0; k < Q; ++k) f[k] = V::load(in[k] + c);
+      collide_store(f, c);
+    }
+    collide_store(last, end - W);
+  }
+
   // W cells `stride` apart, cell l at in[k] + l stride (the same column of W rows), each with no
-  // wall rule: population k of cell l is written to into[k][l] (W aligned values a stream).
+  // wall rule: population k of cell l is written to into[k][l] (W values a stream).
   template <bool kForce>
   static LBSOLID_FORCE_INLINE void column(const T* const (&in)[Q], long stride, T* const (&into)[Q],
                                           const T (&force)[3], T omega, T rho0) {
@@ -123,7 +151,7 @@ struct ShiftedPull {
     for (int k = 0; k < Q; ++k) f[k] = V::load_strided(in[k], stride);
     const auto state = Bgk::template node_state<kForce>(f, V(rho0), force_v);
     [&]<int... K>(std::integer_sequence<int, K...>) LBSOLID_FORCE_INLINE_LAMBDA {
-      (Bgk::template relaxed<kForce, K>(f[K], state, omega_v, force_v).store_aligned(into[K]), ...);
+      (Bgk::template relaxed<kForce, K>(f[K], state, omega_v, force_v).store(into[K]), ...);
     }(std::make_integer_sequence<int, Q>{});
   }
 };

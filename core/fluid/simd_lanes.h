@@ -34,6 +34,7 @@ struct Lanes {
     return [&]<int... I>(std::integer_sequence<int, I...>) { return Lanes(Vector{p[I * stride]...}); }(
         std::make_integer_sequence<int, W>{});
   }
+  void store(T* p) const { std::memcpy(p, &v, sizeof(Vector)); }  // any alignment
   void store_aligned(T* p) const { std::memcpy(__builtin_assume_aligned(p, sizeof(Vector)), &v, sizeof(Vector)); }
 
   friend constexpr Lanes operator+(Lanes a, Lanes b) { return Lanes(a.v + b.v); }
