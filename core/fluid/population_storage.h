@@ -11,8 +11,6 @@
 #include <memory>
 #include <new>
 
-#include "fluid/population_block_advice.h"
-
 namespace lbsolid::fluid {
 
 template <class T>
@@ -26,8 +24,6 @@ class PopulationStorage {
     // the block is over-allocated and its first 64-byte boundary taken.
     block_.reset(std::calloc(bytes() + kAlign, 1));
     if (!block_) throw std::bad_alloc();
-    // Before any page is touched: the advice decides what backs them (population_block_advice.h).
-    if (const PopulationBlockAdvice advise = population_block_advice()) advise(block_.get(), bytes() + kAlign);
     const std::uintptr_t address = reinterpret_cast<std::uintptr_t>(block_.get());
     data_ = reinterpret_cast<T*>((address + kAlign - 1) / kAlign * kAlign);
   }

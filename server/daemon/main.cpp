@@ -36,7 +36,6 @@
 #include "absl/time/time.h"
 #include "fluid/kernel_isa.h"
 #include "server/auth/transport.h"
-#include "server/platform/huge_pages.h"
 #include "server/service/simulation_service.h"
 #include "server/session/session_manager.h"
 #include "server/session/thread_priority.h"
@@ -110,9 +109,6 @@ ABSL_FLAG(std::string, advertise_address, "",
           "client that knows several daemons follows each session to its own; empty: none");
 ABSL_FLAG(std::string, port_file, "", "if set, the port actually bound is written there (for tests and scripts)");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn or error");
-ABSL_FLAG(bool, huge_pages, true,
-          "ask Linux for transparent huge pages behind each session's fluid populations (faster steps; "
-          "where the kernel's THP mode is 'never' this changes nothing)");
 
 namespace {
 
@@ -195,7 +191,6 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::from_str(absl::GetFlag(FLAGS_log_level)));
   spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
   if (const std::string error = lbsolid::fluid::kernel_isa_environment_error(); !error.empty()) return fail_start(error);
-  lbsolid::platform::use_huge_pages_for_populations(absl::GetFlag(FLAGS_huge_pages));
 
   lbsolid::server::ManagerLimits limits;
   limits.workers = absl::GetFlag(FLAGS_workers);

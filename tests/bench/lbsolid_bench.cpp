@@ -8,11 +8,9 @@
 // Then the scene benchmarks (bench/scene_bench.h): the builder's overhead on a fluid-only scene,
 // a solid-only scene's memory, and coupled steps at 0.1 and 1 particle per cell, with one thread
 // and, with --threads N, with N fluid threads too (and the speed-up).
-//   lbsolid-bench [--json] [--quick] [--threads N] [--small-pages] [--scenes-only | --kernels-only]
+//   lbsolid-bench [--json] [--quick] [--threads N] [--scenes-only | --kernels-only]
 // (--kernels-only: the fluid kernels alone, e.g. to hold a portable build against a native one:
-// tests/bench/portable_vs_native.sh). Populations and the bandwidth loops' arrays ask for huge
-// pages, as the daemon's do (server/platform/huge_pages.h); --small-pages leaves them on the
-// default pages, to show what that costs.
+// tests/bench/portable_vs_native.sh)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,7 +27,6 @@
 #include "lattice/d2q7.h"
 #include "lattice/d2q9.h"
 #include "lattice/d3q19.h"
-#include "server/platform/huge_pages.h"
 
 namespace lbsolid::bench {
 namespace {
@@ -103,18 +100,16 @@ Row measure(std::size_t working_set, int threads, fluid::StreamingScheme streami
 int main(int argc, char** argv) {
   using namespace lbsolid;
   using namespace lbsolid::bench;
-  bool json = false, quick = false, scenes_only = false, kernels_only = false, small_pages = false;
+  bool json = false, quick = false, scenes_only = false, kernels_only = false;
   int all = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (int k = 1; k < argc; ++k) {
     if (!std::strcmp(argv[k], "--json")) json = true;
     else if (!std::strcmp(argv[k], "--quick")) quick = true;
     else if (!std::strcmp(argv[k], "--scenes-only")) scenes_only = true;
     else if (!std::strcmp(argv[k], "--kernels-only")) kernels_only = true;
-    else if (!std::strcmp(argv[k], "--small-pages")) small_pages = true;
     else if (!std::strcmp(argv[k], "--threads") && k + 1 < argc) all = std::max(1, std::atoi(argv[++k]));
     else {
-      std::fprintf(stderr,
-                   "usage: lbsolid-bench [--json] [--quick] [--threads N] [--small-pages] [--scenes-only | --kernels-only]\n");
+      std::fprintf(stderr, "usage: lbsolid-bench [--json] [--quick] [--threads N] [--scenes-only | --kernels-only]\n");
       return 2;
     }
   }
@@ -126,7 +121,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "lbsolid-bench: %s\n", error.c_str());
     return 2;
   }
-  platform::use_huge_pages_for_populations(!small_pages);
   const std::size_t llc = last_level_cache_bytes();
   // Working sets of 8x the last-level cache (quick: 4x) leave no doubt the cache cannot hold them.
   const std::size_t working_set = (quick ? 4 : 8) * llc;
@@ -180,9 +174,8 @@ int main(int argc, char** argv) {
   for (int threads : kernels_only ? std::vector<int>{} : thread_counts)
     for (SceneRow& row : run_scene_benchmarks(quick, threads)) scene_rows.push_back(std::move(row));
   if (json) {
-    std::printf("{\n  \"kernel_isa\": \"%s\",\n  \"huge_pages_asked\": %s,\n  \"last_level_cache_bytes\": %zu,\n"
-                "  \"working_set_bytes\": %zu,\n  \"results\": [\n",
-                fluid::kernel_isa_name(fluid::kernel_isa()), small_pages ? "false" : "true", llc, working_set);
+    std::printf("{\n  \"kernel_isa\": \"%s\",\n  \"last_level_cache_bytes\": %zu,\n  \"working_set_bytes\": %zu,\n  \"results\": [\n",
+                fluid::kernel_isa_name(fluid::kernel_isa()), llc, working_set);
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const Row& r = rows[k];
       std::printf("    {\"lattice\": \"%s\", \"precision\": \"%s\", \"streaming\": \"%s\", \"threads\": %d, \"cells\": %ld, "
@@ -209,9 +202,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::printf("lbsolid-bench: fused BGK stream-collide, periodic box, in-place (AA) and two-buffer streaming\n");
-  std::printf("last-level cache %.0f MiB; working set %.0f MiB per run; kernels for %s; %s pages\n\n", llc / 1048576.0,
-              working_set / 1048576.0, fluid::kernel_isa_name(fluid::kernel_isa()),
-              small_pages ? "default" : "huge (asked for)");
+  std::printf("last-level cache %.0f MiB; working set %.0f MiB per run; kernels for %s\n\n", llc / 1048576.0,
+              working_set / 1048576.0, fluid::kernel_isa_name(fluid::kernel_isa()));
   std::printf("%-6s %-7s %-10s %7s %10s %9s %11s %12s %14s %9s\n", "lattice", "prec", "streaming", "threads", "cells", "MLUPS",
               "bytes/cell", "stream GB/s", "roofline MLUPS", "fraction");
   for (const Row& r : rows) {

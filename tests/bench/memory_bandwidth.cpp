@@ -4,13 +4,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <fstream>
-#include <memory>
-#include <new>
 #include <string>
+#include <vector>
 
-#include "fluid/population_block_advice.h"
 #include "parallel/thread_pool.h"
 
 namespace lbsolid::bench {
@@ -30,25 +27,6 @@ std::size_t last_level_cache_bytes() {
 }
 
 namespace {
-// n doubles on pages like the populations' (the same advice, fluid/population_block_advice.h), so
-// that the roofline is measured on the kind of pages the kernels run on.
-class Array {
- public:
-  Array(long n, double value) : data_(static_cast<double*>(std::calloc(static_cast<std::size_t>(n), sizeof(double)))) {
-    if (!data_) throw std::bad_alloc();
-    if (const fluid::PopulationBlockAdvice advise = fluid::population_block_advice())
-      advise(data_.get(), static_cast<std::size_t>(n) * sizeof(double));
-    std::fill_n(data_.get(), n, value);
-  }
-  double* data() { return data_.get(); }
-
- private:
-  struct Free {
-    void operator()(double* p) const { std::free(p); }
-  };
-  std::unique_ptr<double, Free> data_;
-};
-
 void copy(const double* __restrict a, double* __restrict b, long begin, long end) {
   for (long i = begin; i < end; ++i) b[i] = a[i];
 }
@@ -72,7 +50,7 @@ double best_seconds(int repeats, Pass pass) {
 
 double copy_bandwidth(std::size_t bytes_per_array, int threads, int repeats) {
   const long n = static_cast<long>(bytes_per_array / sizeof(double));
-  Array a(n, 1.0), b(n, 0.0);
+  std::vector<double> a(n, 1.0), b(n, 0.0);
   parallel::ThreadPool pool(threads);
   const double seconds = best_seconds(repeats, [&] {
     pool.parallel_for(n, [&](long begin, long end) { copy(a.data(), b.data(), begin, end); });
@@ -82,7 +60,7 @@ double copy_bandwidth(std::size_t bytes_per_array, int threads, int repeats) {
 
 double update_bandwidth(std::size_t bytes, int threads, int repeats) {
   const long n = static_cast<long>(bytes / sizeof(double));
-  Array a(n, 1.0);
+  std::vector<double> a(n, 1.0);
   parallel::ThreadPool pool(threads);
   // Alternating factors keep the values bounded whatever the number of passes.
   double factor = 0.5;
