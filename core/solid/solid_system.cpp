@@ -58,7 +58,6 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
     for (int k = 0; k < links_; ++k) {
       const Vec3 f = neighbours_[p * links_ + topology_.opposite(k)] >= 0 ? half : Vec3{0, 0, 0};
       incoming_.insert(incoming_.end(), f.begin(), f.begin() + dim_);
-      outgoing_.insert(outgoing_.end(), dim_, 0.0);
     }
   momentum_.resize(static_cast<std::size_t>(particle_count()) * dim_);
   if (angular_velocity != Vec3{0, 0, 0}) set_spin(body, velocity, angular_velocity);
@@ -98,10 +97,9 @@ RemovedVectors SolidSystem::break_link(int p, int k, long step) {
   RemovedVectors removed{q, incoming(p, back), incoming(q, k)};
   const std::size_t slot_p = (static_cast<std::size_t>(p) * links_ + back) * dim_;
   const std::size_t slot_q = (static_cast<std::size_t>(q) * links_ + k) * dim_;
-  std::fill_n(&incoming_[slot_p], dim_, 0.0);  // nothing arrives along a missing link again:
-  std::fill_n(&outgoing_[slot_p], dim_, 0.0);  // advance() writes only existing links' slots
+  // Nothing arrives along a missing link again: the step replaces only existing links' vectors.
+  std::fill_n(&incoming_[slot_p], dim_, 0.0);
   std::fill_n(&incoming_[slot_q], dim_, 0.0);
-  std::fill_n(&outgoing_[slot_q], dim_, 0.0);
   neighbours_[static_cast<std::size_t>(p) * links_ + k] = -1;
   neighbours_[static_cast<std::size_t>(q) * links_ + back] = -1;
   mass_[p] = mass_from_links(neighbours_, p);
@@ -165,7 +163,7 @@ double SolidSystem::total_energy() const {
 std::size_t SolidSystem::bytes_allocated() const {
   return body_index_.capacity() * sizeof(int) + labels_.capacity() * sizeof(Label) +
          mass_.capacity() * sizeof(double) + neighbours_.capacity() * sizeof(int) + anchored_.capacity() +
-         (positions_.capacity() + incoming_.capacity() + outgoing_.capacity() + momentum_.capacity()) * sizeof(double) +
+         (positions_.capacity() + incoming_.capacity() + base_.capacity() + momentum_.capacity()) * sizeof(double) +
          broken_.capacity() * sizeof(BrokenLink) + shed_momentum_.capacity() * sizeof(Vec3);
 }
 
@@ -234,7 +232,6 @@ void SolidSystem::restore(const SolidState& state) {
   incoming_ = std::move(incoming);
   momentum_ = std::move(momentum);
   neighbours_ = std::move(neighbours);
-  std::fill(outgoing_.begin(), outgoing_.end(), 0.0);  // the next step writes every slot it reads
   any_shed_ = false;
   for (int p = 0; p < static_cast<int>(n); ++p) {
     mass_[p] = mass_from_links(neighbours_, p);

@@ -22,6 +22,7 @@
 // (solid/body_rotation.cpp; eq. 11 then holds with a D that follows the frame, not the placed Delta0).
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "parallel/thread_pool.h"
@@ -91,9 +92,9 @@ class SolidSystem {
   // One step with the total external force on particle p given by `force(p)` (a Vec3, loads
   // included by the caller), evaluated once per particle as the step reaches it: it may read this
   // system's momentum, position and mass of p, which are still those before the step.
-  // With a pool, the particles are cut into `parts` ranges run on it: each particle writes only
-  // its own position and the one outgoing slot of each of its links, so the result is the same
-  // bit for bit.
+  // With a pool, the particles are cut into `parts` ranges run on it: each link's two vectors are
+  // replaced once, by one thread, from values no other link changes, so the result is the same
+  // bit for bit (stream()).
   template <class Force>
   void step(const Force& force, parallel::ThreadPool* pool = nullptr, int parts = 1) {
     stream(force, pool, parts);
@@ -187,25 +188,29 @@ class SolidSystem {
   std::vector<double> mass_;
   std::vector<char> anchored_;     // per particle once any is anchored, else empty
   std::vector<int> neighbours_;  // [p * links + k]
-  std::vector<double> incoming_;   // f_k(p) at time t, at [(p * links + k) * dim + a]
-  std::vector<double> outgoing_;   // written by step(), then swapped in
+  std::vector<double> incoming_;   // f_k(p) at time t, at [(p * links + k) * dim + a], replaced in place
+  std::vector<double> base_;       // per particle, during stream(): Psi/M + F/(2M) at [p * dim + a]
   std::vector<double> momentum_;   // Psi of the incoming vectors: read by the exchange, contact and step
   double* position_at(int p) { return &positions_[static_cast<std::size_t>(p) * dim_]; }
   double* incoming_at(int p, int k) { return &incoming_[(static_cast<std::size_t>(p) * links_ + k) * dim_]; }
   // Per dimension (Links = 4 or 6, Links / 2 components) so that the loops unroll and opp(k) is a
   // constant.
-  // Psi_p = sum_k of `vectors` at p's slots (incoming_, or outgoing_ before it is swapped in).
+  // Psi_p = sum_k f_k(p), for p in [first, end).
   template <int Links>
-  void sum_momentum(const std::vector<double>& vectors, int first, int end);
-  template <int Links>
-  void update_momentum(int first, int end) { sum_momentum<Links>(incoming_, first, end); }
-  template <int Links>
-  void sum_outgoing(int first, int end) { sum_momentum<Links>(outgoing_, first, end); }
-  // The stream's blocks: small enough that a block's outgoing vectors stay in the L1/L2 cache
-  // until stream() sums them reach_ later.
+  void update_momentum(int first, int end);
+  // The stream's blocks: small enough that a block's link vectors stay in the L1/L2 cache until
+  // stream() sums them reach_ later.
   static constexpr int kStreamBlock = 256;
+  // Eqs. 6-7 in place for particles [first, end): each one's base Psi/M + F/(2M) (into base_) and
+  // new position, and the links to particles in [lowest, p) (whose bases are in base_ already).
   template <int Links, bool kMayShed, class Force>
-  void advance(const Force& force, int first, int end);
+  void advance_in_place(const Force& force, int first, int end, int lowest);
+  // The links from particles in [first, end) to particles below `below` (both bases in base_).
+  template <int Links>
+  void exchange_links(int first, int end, int below);
+  // Link k of p, to q (whose base is in base_ as p's is): f_k(q) and f_opp(k)(p) replaced.
+  template <int Links>
+  void exchange_link(int p, int k, int q);
   template <class Range>
   void for_parts(parallel::ThreadPool* pool, int parts, const Range& range);
   // Turns body b's springs to its best-fit frame after a step (above; body_rotation.cpp).
@@ -233,81 +238,116 @@ void SolidSystem::for_parts(parallel::ThreadPool* pool, int parts, const Range& 
 
 template <class Force>
 void SolidSystem::stream(const Force& force, parallel::ThreadPool* pool, int parts) {
-  // Psi of a particle is the sum of what its neighbours send it, and they lie within reach_ of it
-  // in index order. So each part advances its particles a block at a time and, reach_ behind,
-  // sums the momenta whose senders are all done while their vectors are still in cache (instead of
-  // reading every vector again from memory after the step). Particles within reach_ of a part's
-  // ends have senders in the neighbouring part: they are summed once all parts are done. Every
-  // particle is summed exactly once, in link order, so the result is the same for any parts.
+  // In place: a link's two vectors, f_k(q) (from p) and f_opp(k)(p) (from q), are each replaced
+  // from the other and their senders' bases, so the step needs no second buffer of link vectors
+  // (a quarter of a 2D particle's bytes, a third of a 3D one's). A link is done at its higher
+  // end in index order, once both bases are known; the lower end lies within reach_ of it. So
+  // each part advances its particles a block at a time and sums the momenta of the particles
+  // reach_ behind, all of whose links are then done, while their vectors are still in cache. A
+  // link between two parts, and the sums of the particles within reach_ of a part's ends, wait
+  // until all parts are done. Every value is worked out as with two buffers, and every momentum
+  // summed once in link order: the result is the same for any parts, bit for bit.
+  base_.resize(static_cast<std::size_t>(particle_count()) * dim_);
   const bool cubic = links_ == 6;
-  const auto sum = [&](int first, int end) {
-    if (first < end) cubic ? sum_outgoing<6>(first, end) : sum_outgoing<4>(first, end);
+  const int n = particle_count();
+  const auto advance_range = [&](int first, int end, int lowest) {
+    if (cubic) any_shed_ ? advance_in_place<6, true>(force, first, end, lowest)
+                         : advance_in_place<6, false>(force, first, end, lowest);
+    else any_shed_ ? advance_in_place<4, true>(force, first, end, lowest)
+                   : advance_in_place<4, false>(force, first, end, lowest);
   };
-  const auto advance_range = [&](int first, int end) {
-    if (any_shed_) cubic ? advance<6, true>(force, first, end) : advance<4, true>(force, first, end);
-    else cubic ? advance<6, false>(force, first, end) : advance<4, false>(force, first, end);
+  const auto sum = [&](long first, long end) {
+    if (first < end) cubic ? update_momentum<6>(first, end) : update_momentum<4>(first, end);
+  };
+  // The particles of [first, end) whose sums need no other part: all but reach_ at an end that
+  // adjoins another part.
+  const auto inner = [&](int first, int end) {
+    return std::pair<long, long>{first > 0 ? static_cast<long>(first) + reach_ : first,
+                                 end < n ? static_cast<long>(end) - reach_ : end};
   };
   for_parts(pool, parts, [&](int first, int end) {
-    long summed = static_cast<long>(first) + reach_;  // the next particle to sum here
+    const auto [sum_first, sum_end] = inner(first, end);
+    long summed = sum_first;
     for (int block = first, block_end; block < end; block = block_end) {
       block_end = block + std::min(kStreamBlock, end - block);
-      advance_range(block, block_end);
-      const long ready = static_cast<long>(block_end) - reach_;  // the senders of [summed, ready) are done
+      advance_range(block, block_end, first);
+      const long ready = block_end == end ? sum_end : std::min<long>(block_end - reach_, sum_end);
       if (ready > summed) {
-        sum(static_cast<int>(summed), static_cast<int>(ready));
+        sum(summed, ready);
         summed = ready;
       }
     }
   });
-  for_parts(pool, parts, [&](int first, int end) {  // the ends of each part
-    const long interior_first = static_cast<long>(first) + reach_, interior_end = static_cast<long>(end) - reach_;
-    if (interior_first >= interior_end) return sum(first, end);
-    sum(first, static_cast<int>(interior_first));
-    sum(static_cast<int>(interior_end), end);
+  if (!pool || parts <= 1) return;  // one part: nothing waits
+  for_parts(pool, parts, [&](int first, int end) {  // the links to the part below
+    if (first == 0) return;
+    const int last = static_cast<int>(std::min<long>(end, static_cast<long>(first) + reach_));
+    cubic ? exchange_links<6>(first, last, first) : exchange_links<4>(first, last, first);
   });
-  incoming_.swap(outgoing_);
+  for_parts(pool, parts, [&](int first, int end) {  // the sums near the ends
+    const auto [inner_first, inner_end] = inner(first, end);
+    if (inner_first >= inner_end) return sum(first, end);
+    sum(first, inner_first);
+    sum(inner_end, end);
+  });
 }
 
-// Eq. 7 and the wave rule for particles [first, end): positions, and the vectors each sends.
-// kMayShed: skip shed particles (M = 0: no link to send along, no motion, no force asked for).
 template <int Links, bool kMayShed, class Force>
-void SolidSystem::advance(const Force& force, int first, int end) {
+void SolidSystem::advance_in_place(const Force& force, int first, int end, int lowest) {
   constexpr int D = Links / 2;
   // Raw pointers: through the vectors, every store to a vector's element would make the compiler
   // load that vector's data pointer again (it may not know the store leaves the vector alone).
   const double* __restrict masses = mass_.data();
   const double* __restrict momenta = momentum_.data();
   const int* __restrict neighbours = neighbours_.data();
-  const double* __restrict incoming = incoming_.data();
-  double* __restrict outgoing = outgoing_.data();
+  double* __restrict bases = base_.data();
   double* __restrict positions = positions_.data();
   for (int p = first; p < end; ++p) {
     if constexpr (kMayShed)
-      if (masses[p] == 0) continue;
+      if (masses[p] == 0) continue;  // no link to send along, no motion, no force asked for
     const Vec3 f = force(p);
     const double* psi = &momenta[static_cast<std::size_t>(p) * D];
     const double inv_m = 1.0 / masses[p];
-    double base[D];  // Psi/M + F/(2M): the displacement, and the common part of every outgoing vector
-    for (int a = 0; a < D; ++a) base[a] = (psi[a] + 0.5 * f[a]) * inv_m;
-    const int* neighbour = &neighbours[static_cast<std::size_t>(p) * Links];
-    const double* in = &incoming[static_cast<std::size_t>(p) * Links * D];
-    for (int k = 0; k < Links; ++k) {
-      const int q = neighbour[k];
-      if (q < 0) continue;
-      const double* back = &in[(k + Links / 2) % Links * D];  // f_opp(k)(p)
-      double* out = &outgoing[(static_cast<std::size_t>(q) * Links + k) * D];
-      for (int a = 0; a < D; ++a) out[a] = base[a] - back[a];
-    }
+    double* base = &bases[static_cast<std::size_t>(p) * D];
     double* r = &positions[static_cast<std::size_t>(p) * D];
-    for (int a = 0; a < D; ++a) r[a] += base[a];
+    for (int a = 0; a < D; ++a) {
+      base[a] = (psi[a] + 0.5 * f[a]) * inv_m;
+      r[a] += base[a];
+    }
+    for (int k = 0; k < Links; ++k) {
+      const int q = neighbours[static_cast<std::size_t>(p) * Links + k];
+      if (q >= lowest && q < p) exchange_link<Links>(p, k, q);  // a missing link's q is -1
+    }
   }
 }
 
 template <int Links>
-void SolidSystem::sum_momentum(const std::vector<double>& vectors, int first, int end) {
+void SolidSystem::exchange_links(int first, int end, int below) {
+  for (int p = first; p < end; ++p)
+    for (int k = 0; k < Links; ++k)
+      if (const int q = neighbours_[static_cast<std::size_t>(p) * Links + k]; q >= 0 && q < below)
+        exchange_link<Links>(p, k, q);
+}
+
+template <int Links>
+inline void SolidSystem::exchange_link(int p, int k, int q) {
+  constexpr int D = Links / 2;
+  double* __restrict at_q = &incoming_[(static_cast<std::size_t>(q) * Links + k) * D];  // f_k(q), from p
+  double* __restrict at_p = &incoming_[(static_cast<std::size_t>(p) * Links + (k + D) % Links) * D];  // f_opp(k)(p)
+  const double* base_p = &base_[static_cast<std::size_t>(p) * D];
+  const double* base_q = &base_[static_cast<std::size_t>(q) * D];
+  for (int a = 0; a < D; ++a) {
+    const double from_p = at_q[a];
+    at_q[a] = base_p[a] - at_p[a];
+    at_p[a] = base_q[a] - from_p;
+  }
+}
+
+template <int Links>
+void SolidSystem::update_momentum(int first, int end) {
   constexpr int D = Links / 2;
   for (int p = first; p < end; ++p) {
-    const double* in = &vectors[static_cast<std::size_t>(p) * Links * D];
+    const double* in = &incoming_[static_cast<std::size_t>(p) * Links * D];
     double psi[D] = {};
     for (int k = 0; k < Links; ++k)
       for (int a = 0; a < D; ++a) psi[a] += in[k * D + a];

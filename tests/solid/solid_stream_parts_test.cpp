@@ -3,7 +3,8 @@
 // (SolidSystem::stream). These tests check that against the definition, recomputed here from the
 // stored vectors, and that the step gives the same state bit for bit for any number of parts,
 // with bodies whose labels are in scrambled order (senders far apart in index order) beside
-// compact ones, and after links broke and a particle was shed.
+// compact ones, and after links broke and a particle was shed; and that a step, which replaces
+// the link vectors in place, gives what eqs. 6-7 give with a second buffer.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -93,6 +94,50 @@ void check_parts(int dimension) {
     // interior: every particle is summed after the stream).
     for (int parts : {2, 3, 7, 30, 1000}) expect_same_state(one, run(dimension, scrambled, parts, kSteps), parts);
   }
+}
+
+// One step against eqs. 6-7 as MODEL.md writes them, worked out here with a second buffer from
+// the state before the step: f_k(p + c_k) <- Psi_p/M_p + F_p/(2 M_p) - f_opp(k)(p), r_p moved by
+// the same base. The solid replaces each link's two vectors in place, in an order of its own, and
+// must give the same values. The bound: the reference divides where the solid multiplies by 1/M
+// (round-off, about 1e-17 on values of 1e-2); using a vector already replaced, or the wrong one,
+// errs by the size of a vector or a load, 1e-3 or more.
+void check_one_step_against_the_wave_rule(int dimension, int parts) {
+  SolidSystem solid = make_solid(dimension, /*scrambled=*/true);
+  parallel::ThreadPool pool(3);
+  const int n = solid.particle_count(), links = solid.topology().links();
+  for (int step = 1; step <= 3; ++step) {
+    const std::vector<Vec3> force = loads(n, dimension, step);
+    std::vector<Vec3> expected_incoming(static_cast<std::size_t>(n) * links, Vec3{0, 0, 0});
+    std::vector<Vec3> expected_position(n);
+    for (int p = 0; p < n; ++p) {
+      const double m = solid.mass(p);
+      Vec3 base{0, 0, 0};
+      for (int a = 0; a < 3; ++a) base[a] = solid.momentum(p)[a] / m + force[p][a] / (2 * m);
+      for (int a = 0; a < 3; ++a) expected_position[p][a] = solid.position(p)[a] + base[a];
+      for (int k = 0; k < links; ++k) {
+        const int q = solid.neighbour(p, k);
+        if (q < 0) continue;
+        const Vec3 back = solid.incoming(p, solid.topology().opposite(k));
+        for (int a = 0; a < 3; ++a) expected_incoming[static_cast<std::size_t>(q) * links + k][a] = base[a] - back[a];
+      }
+    }
+    solid.step(force, parts > 1 ? &pool : nullptr, parts);
+    constexpr double kRoundOff = 1e-14;
+    for (int p = 0; p < n; ++p) {
+      for (int a = 0; a < 3; ++a) ASSERT_NEAR(solid.position(p)[a], expected_position[p][a], kRoundOff) << p;
+      for (int k = 0; k < links; ++k)
+        for (int a = 0; a < 3; ++a)
+          ASSERT_NEAR(solid.incoming(p, k)[a], expected_incoming[static_cast<std::size_t>(p) * links + k][a], kRoundOff)
+              << "particle " << p << " link " << k << " after step " << step << ", " << parts << " parts";
+    }
+    expect_momentum_is_sum_of_incoming(solid, step);
+  }
+}
+
+TEST(SolidStreamParts, OneStepIsTheWaveRuleAsWritten) {
+  for (int dimension : {2, 3})
+    for (int parts : {1, 3, 1000}) check_one_step_against_the_wave_rule(dimension, parts);
 }
 
 TEST(SolidStreamParts, MomentumIsTheSumOfWhatArrivedAndPartsDoNotChangeTheRun2D) { check_parts(2); }
