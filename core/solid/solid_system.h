@@ -21,6 +21,7 @@
 // no net torque, so without other forces sum_p r_p x Psi_p is kept to round-off
 // (solid/body_rotation.cpp; eq. 11 then holds with a D that follows the frame, not the placed Delta0).
 #include <algorithm>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -201,6 +202,10 @@ class SolidSystem {
   // The stream's blocks: small enough that a block's link vectors stay in the L1/L2 cache until
   // stream() sums them reach_ later.
   static constexpr int kStreamBlock = 256;
+  // The step asks for the link vectors of the particle this many on (its own are replaced in place,
+  // read and written back, from memory in a large solid): in one process, best of 8 rounds, the
+  // solid stage 10.8 -> 9.8 ns a particle (2D sheets, 0.1 per cell), 21.3 -> 15.0 (3D balls).
+  static constexpr int kVectorsAhead = 24;
   // Eqs. 6-7 in place for particles [first, end): each one's base Psi/M + F/(2M) (into base_) and
   // new position, and the links to particles in [lowest, p) (whose bases are in base_ already).
   template <int Links, bool kMayShed, class Force>
@@ -302,9 +307,16 @@ void SolidSystem::advance_in_place(const Force& force, int first, int end, int l
   const int* __restrict neighbours = neighbours_.data();
   double* __restrict bases = base_.data();
   double* __restrict positions = positions_.data();
+  constexpr std::uintptr_t kParticleBytes = Links * D * sizeof(double);  // a particle's link vectors
+  const auto vectors_at = reinterpret_cast<std::uintptr_t>(incoming_.data());
   for (int p = first; p < end; ++p) {
     if constexpr (kMayShed)
       if (masses[p] == 0) continue;  // no link to send along, no motion, no force asked for
+    // The vectors of the particle kVectorsAhead on, asked for now: as an integer, since that
+    // particle may lie past the last, where a pointer may not point.
+    const std::uintptr_t ahead = vectors_at + (static_cast<std::uintptr_t>(p) + kVectorsAhead) * kParticleBytes;
+    for (std::uintptr_t line = 0; line < kParticleBytes; line += 64)
+      __builtin_prefetch(reinterpret_cast<const void*>(ahead + line), 1);
     const Vec3 f = force(p);
     const double* psi = &momenta[static_cast<std::size_t>(p) * D];
     const double inv_m = 1.0 / masses[p];
