@@ -89,14 +89,15 @@ void MomentumExchange::mark_cells(Part& part) {
   long* __restrict block_count = block_count_.data();
   const CellIndex first = part.first_cell, end = part.end_cell;
   const long n = static_cast<long>(cell_.size());
+  long marked = 0;  // cells marked here for the first time: the part's nodes
   for (long p = 0; p < n; ++p) {
     const CellIndex c = cells[p];
     if (c < first || c >= end) continue;
-    touched[c >> 6] |= std::uint64_t{1} << (c & 63);
+    const std::uint64_t bit = std::uint64_t{1} << (c & 63);
+    marked += (touched[c >> 6] & bit) == 0;
+    touched[c >> 6] |= bit;
     if (counts) ++block_count[c >> block_shift_];
   }
-  long marked = 0;
-  for (long w = first >> 6; w < (static_cast<long>(end) + 63) >> 6; ++w) marked += __builtin_popcountll(touched[w]);
   part.count = marked;
 }
 
