@@ -1,6 +1,35 @@
 #include "coupling/momentum_exchange.h"
 
+#include "fluid/force_inline.h"
+#include "fluid/kernel_isa.h"
+
 namespace lbsolid::coupling {
+
+namespace {
+
+// The set bits of `bits`: the popcnt instruction on the AVX2 and AVX-512 paths (and wherever the
+// build targets a CPU that has it); elsewhere counted in registers, not by libgcc's call a word.
+template <fluid::KernelIsa I>
+LBSOLID_FORCE_INLINE long count_bits(std::uint64_t bits) {
+#ifndef __POPCNT__
+  if constexpr (I == fluid::KernelIsa::kBaseline) {
+    bits -= (bits >> 1) & 0x5555555555555555ULL;
+    bits = (bits & 0x3333333333333333ULL) + ((bits >> 2) & 0x3333333333333333ULL);
+    bits = (bits + (bits >> 4)) & 0x0f0f0f0f0f0f0f0fULL;
+    return static_cast<long>((bits * 0x0101010101010101ULL) >> 56);
+  }
+#endif
+  return __builtin_popcountll(bits);
+}
+
+// The slot of marked cell c, of a word whose marks are `marks` and whose first marked cell has
+// slot `first_slot`: that plus the marked cells before c.
+template <fluid::KernelIsa I>
+LBSOLID_FORCE_INLINE long slot_of_cell(std::uint64_t marks, std::uint32_t first_slot, CellIndex c) {
+  return first_slot + count_bits<I>(marks & ((std::uint64_t{1} << (c & 63)) - 1));
+}
+
+}  // namespace
 
 const char* exchange_rule_name(ExchangeRule rule) {
   switch (rule) {
@@ -15,8 +44,7 @@ MomentumExchange::MomentumExchange(const std::array<int, 3>& grid, ExchangeRule 
       grid_(grid),
       cells_(static_cast<long>(grid[0]) * grid[1] * grid[2]),
       block_shift_(6),
-      touched_(static_cast<std::size_t>((cells_ + 63) / 64), 0),
-      slot_of_cell_(static_cast<std::size_t>(cells_), 0) {
+      marks_(static_cast<std::size_t>((cells_ + 63) / 64)) {
   while ((cells_ >> block_shift_) > kBalanceBlocks) ++block_shift_;
   block_count_.assign(static_cast<std::size_t>((cells_ >> block_shift_) + 1), 0);
 }
@@ -39,8 +67,8 @@ std::size_t MomentumExchange::Slots::bytes_allocated() const {
 }
 
 std::size_t MomentumExchange::bytes_allocated() const {
-  return (cell_.capacity() + slot_.capacity()) * sizeof(std::uint32_t) + touched_.capacity() * sizeof(std::uint64_t) +
-         slot_of_cell_.capacity() * sizeof(std::uint32_t) + block_count_.capacity() * sizeof(long) +
+  return (cell_.capacity() + slot_.capacity()) * sizeof(std::uint32_t) + marks_.capacity() * sizeof(MarkWord) +
+         block_count_.capacity() * sizeof(long) +
          parts_.capacity() * sizeof(Part) + slots_.bytes_allocated() + pairwise_dp_.capacity() * sizeof(fluid::Vec3);
 }
 
@@ -85,7 +113,7 @@ void MomentumExchange::mark_cells(Part& part) {
               block_count_.begin() + ((static_cast<long>(part.end_cell) + (1L << block_shift_) - 1) >> block_shift_),
               0);
   const CellIndex* __restrict cells = cell_.data();
-  std::uint64_t* __restrict touched = touched_.data();
+  MarkWord* __restrict marks = marks_.data();
   long* __restrict block_count = block_count_.data();
   const CellIndex first = part.first_cell, end = part.end_cell;
   const long n = static_cast<long>(cell_.size());
@@ -94,8 +122,8 @@ void MomentumExchange::mark_cells(Part& part) {
     const CellIndex c = cells[p];
     if (c < first || c >= end) continue;
     const std::uint64_t bit = std::uint64_t{1} << (c & 63);
-    marked += (touched[c >> 6] & bit) == 0;
-    touched[c >> 6] |= bit;
+    marked += (marks[c >> 6].cells & bit) == 0;
+    marks[c >> 6].cells |= bit;
     if (counts) ++block_count[c >> block_shift_];
   }
   part.count = marked;
@@ -115,17 +143,10 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   double* __restrict slot_momentum = slots_.momentum.data();
   std::uint32_t* __restrict slot_anchors = slots_.anchors.data();
   const long end_word = (static_cast<long>(part.end_cell) + 63) >> 6;
+  MarkWord* __restrict marks = marks_.data();
   for (long w = part.first_cell >> 6; w < end_word; ++w) {
-    // A sparse part (a dilute suspension) writes its slot table a few cells a line, far apart:
-    // the lines of a word's first and last marked cells are asked for a few words ahead.
-    if (w + kListAhead < end_word) {
-      if (const std::uint64_t ahead = touched_[w + kListAhead]; ahead != 0) {
-        const long base = 64 * (w + kListAhead);
-        __builtin_prefetch(slot_of_cell_.data() + base + __builtin_ctzll(ahead), 1);
-        __builtin_prefetch(slot_of_cell_.data() + base + 63 - __builtin_clzll(ahead), 1);
-      }
-    }
-    for (std::uint64_t bits = touched_[w]; bits != 0; bits &= bits - 1) {
+    marks[w].first_slot = static_cast<std::uint32_t>(s);
+    for (std::uint64_t bits = marks[w].cells; bits != 0; bits &= bits - 1) {
       const long c = 64 * w + __builtin_ctzll(bits);
       while (c >= row_end) {
         row_end += nx;
@@ -134,7 +155,6 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
           ++z;
         }
       }
-      slot_of_cell_[c] = static_cast<std::uint32_t>(s);
       node[s] = {static_cast<int>(c - (row_end - nx)), y, z};
       slot_mass[s] = 0;
       slot_momentum[d * s] = slot_momentum[d * s + 1] = 0;
@@ -142,11 +162,9 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
       slot_anchors[s] = 0;
       ++s;
     }
-    touched_[w] = 0;
   }
   // Each node's particles summed in index order.
   const CellIndex* __restrict cells = cell_.data();
-  const std::uint32_t* __restrict slot_of_cell = slot_of_cell_.data();
   std::uint32_t* __restrict slot_of_particle = slot_.data();
   const double* __restrict masses = mass.data();
   const double* __restrict momenta = momentum.data;
@@ -155,19 +173,23 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   // D components per particle and per slot (a 2D solid stores no z).
   // Anchors count at their node and add neither mass nor momentum (theirs is infinite, at rest).
   const char* __restrict anchor = anchored ? anchored->data() : nullptr;
+  // Counting a word's marks takes popcnt where the CPU has it: run_with_isa.
   auto sum = [&]<int D, bool kAnchors>(std::integral_constant<int, D>, std::bool_constant<kAnchors>) {
-    for (long p = 0; p < n; ++p) {
-      const CellIndex c = cells[p];
-      if (c < first || c >= end) continue;
-      const long slot = slot_of_cell[c];
-      slot_of_particle[p] = static_cast<std::uint32_t>(slot);
-      if (kAnchors && anchor[p]) {
-        ++slot_anchors[slot];
-        continue;
+    fluid::run_with_isa(fluid::kernel_isa(), [&]<fluid::KernelIsa I>(fluid::IsaTag<I>) LBSOLID_FORCE_INLINE_LAMBDA {
+      for (long p = 0; p < n; ++p) {
+        const CellIndex c = cells[p];
+        if (c < first || c >= end) continue;
+        const MarkWord& word = marks[c >> 6];
+        const long slot = slot_of_cell<I>(word.cells, word.first_slot, c);
+        slot_of_particle[p] = static_cast<std::uint32_t>(slot);
+        if (kAnchors && anchor[p]) {
+          ++slot_anchors[slot];
+          continue;
+        }
+        slot_mass[slot] += masses[p];
+        for (int a = 0; a < D; ++a) slot_momentum[slot * D + a] += momenta[p * D + a];
       }
-      slot_mass[slot] += masses[p];
-      for (int a = 0; a < D; ++a) slot_momentum[slot * D + a] += momenta[p * D + a];
-    }
+    });
   };
   auto with_anchors = [&]<int D>(std::integral_constant<int, D> dimension) {
     if (anchor) sum(dimension, std::true_type{});
@@ -175,6 +197,11 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   };
   if (momentum.dimension == 2) with_anchors(std::integral_constant<int, 2>{});
   else with_anchors(std::integral_constant<int, 3>{});
+}
+
+void MomentumExchange::clear_marks(const Part& part) {
+  const long end_word = (static_cast<long>(part.end_cell) + 63) >> 6;
+  for (long w = part.first_cell >> 6; w < end_word; ++w) marks_[w].cells = 0;
 }
 
 template <int D>
@@ -234,7 +261,7 @@ void MomentumExchange::pairwise_gains(const Part& part, const std::vector<double
   for (long p = 0; p < static_cast<long>(cell_.size()); ++p) {
     const CellIndex c = cell_[p];
     if (c < part.first_cell || c >= part.end_cell) continue;
-    const long s = slot_of_cell_[c];
+    const long s = slot_of_cell<fluid::kCompiledIsa>(marks_[c >> 6].cells, marks_[c >> 6].first_slot, c);
     const double z = 1.0 / (1.0 / slots_.pairwise_rho[s] + 1.0 / mass[p]);
     const fluid::Vec3 momentum_p = momentum[p];
     const fluid::Vec3 u = slots_.vector(slots_.velocity, s);

@@ -101,8 +101,13 @@ class MomentumExchange {
  private:
   // Nodes whose fluid is read in one batch: 512 x 32 B stays in the L1 cache until it is used.
   static constexpr long kReadChunk = 512;
-  // Bitmap words ahead whose slot-table lines the listing asks the cache for.
-  static constexpr long kListAhead = 4;
+  // 64 cells' marks and the slot of the first marked one: the slot of a marked cell is that plus
+  // the marked cells before it in the word (slot_of_cell in the .cpp). 1/4 B a cell, read with one line,
+  // where a slot a cell took 4 B and missed the cache in a dilute 3D box.
+  struct MarkWord {
+    std::uint64_t cells = 0;
+    std::uint32_t first_slot = 0;
+  };
   // Every listed node, slot by slot (part k's from base[k] on): the node, the total mass and
   // momentum of its particles, the velocity its particles are compared with (u*, or the fluid's u
   // for the pairwise rule), and what its fluid gains. The fluid read there is used as it is read,
@@ -136,10 +141,12 @@ class MomentumExchange {
   void cut_parts(int parts, parallel::ThreadPool* pool);
   // Marks the cells of the part's particles (and counts them by block for the next cut).
   void mark_cells(Part& part);
-  // Lists the part's marked nodes in cell order (clearing their marks) and sums the mass and
-  // momentum of their particles.
+  // Lists the part's marked nodes in cell order and sums the mass and momentum of their
+  // particles. The marks stay until clear_marks(part).
   void list_nodes(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum,
                   const std::vector<char>* anchored);
+  // Unmarks the part's cells: the marks are all zero between exchanges.
+  void clear_marks(const Part& part);
   // The comparison velocity and gain of the `count` nodes listed from slot `first` on, given
   // their fluid as read (`read[k]` for slot first + k).
   void node_velocities(long first, long count, const fluid::DensityMomentum* read);
@@ -157,8 +164,7 @@ class MomentumExchange {
   int block_shift_;                      // cells of a counting block: 2^block_shift_, at least a word
   std::vector<CellIndex> cell_;          // per particle: its node's cell
   std::vector<std::uint32_t> slot_;      // per particle: its node's slot
-  std::vector<std::uint64_t> touched_;   // per cell a bit: a particle is there (zero between exchanges)
-  std::vector<std::uint32_t> slot_of_cell_;  // per cell: its slot, set for the cells listed
+  std::vector<MarkWord> marks_;          // per cell a bit: a particle is there (zero between exchanges)
   std::vector<long> block_count_;        // per block of cells: particles there at the last exchange
   std::vector<Part> parts_;
   int parts_used_ = 0;
@@ -216,6 +222,7 @@ void MomentumExchange::compute(const std::vector<double>& mass, const solid::Par
       node_velocities(first, count, read);
     }
     if (rule_ == ExchangeRule::kPairwise) pairwise_gains(part, mass, momentum);
+    clear_marks(part);
   });
 }
 

@@ -113,9 +113,10 @@ Footprint estimate_footprint(const v1::Scenario& scenario) {
   const int buffers = scenario.fluid().streaming() == v1::STREAMING_TWO_BUFFER ? 2 : 1;
   const int value_bytes = scenario.precision() == v1::PRECISION_FLOAT ? 4 : 8;
   const long long populations = saturating_product(buffers * q, population_array_bytes(f.cells, value_bytes));
-  // The exchange's per-cell slot index (4 B) and mark (1 bit), and its balancing counts.
+  // The exchange's marks (16 B a word of 64 cells: a quarter of a byte a cell, one word more
+  // for the last cells) and its balancing counts.
   constexpr long long kBalanceBytes = (coupling::MomentumExchange::kBalanceBlocks + 1) * sizeof(long);
-  const long long exchange_cells = f.particles > 0 ? saturating_sum(saturating_product(f.cells, 5), kBalanceBytes) : 0;
+  const long long exchange_cells = f.particles > 0 ? saturating_sum(f.cells / 4 + 16, kBalanceBytes) : 0;
   const bool rotating = std::any_of(scenario.bodies().begin(), scenario.bodies().end(),
                                     [](const v1::Body& body) { return body.rotation(); });
   const bool particle_forces = std::any_of(scenario.bodies().begin(), scenario.bodies().end(), [](const v1::Body& body) {
