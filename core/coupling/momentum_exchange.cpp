@@ -82,6 +82,7 @@ void MomentumExchange::cut_parts(int parts, parallel::ThreadPool* pool) {
   long block = 0, seen = 0;
   for (int k = 0; k < parts; ++k) {
     Part& part = parts_[k];
+    part.first_block = block;
     part.first_cell = static_cast<CellIndex>(std::min(block << block_shift_, cells_));
     if (k == parts - 1) {
       block = blocks;
@@ -92,6 +93,7 @@ void MomentumExchange::cut_parts(int parts, parallel::ThreadPool* pool) {
       while (block < blocks && seen < target) seen += block_count_[block++];
     }
     part.end_cell = static_cast<CellIndex>(std::min(block << block_shift_, cells_));
+    part.end_block = block;
   }
   // Each part's nodes are its marked cells; its slots follow those of the parts before it.
   for_parts(pool, [&](int k) { mark_cells(parts_[k]); });
@@ -108,10 +110,9 @@ void MomentumExchange::cut_parts(int parts, parallel::ThreadPool* pool) {
 
 void MomentumExchange::mark_cells(Part& part) {
   const bool counts = parts_used_ > 1;  // for the next cut; one part needs no balance
-  if (counts)
-    std::fill(block_count_.begin() + (part.first_cell >> block_shift_),
-              block_count_.begin() + ((static_cast<long>(part.end_cell) + (1L << block_shift_) - 1) >> block_shift_),
-              0);
+  // Its own blocks: rounded from its cells, a part left empty at the grid's end had the last block
+  // of the part before it, and zeroed its count while that part was counting.
+  if (counts) std::fill(block_count_.begin() + part.first_block, block_count_.begin() + part.end_block, 0);
   const CellIndex* __restrict cells = cell_.data();
   MarkWord* __restrict marks = marks_.data();
   long* __restrict block_count = block_count_.data();
@@ -142,9 +143,8 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   double* __restrict slot_mass = slots_.mass.data();
   double* __restrict slot_momentum = slots_.momentum.data();
   std::uint32_t* __restrict slot_anchors = slots_.anchors.data();
-  const long end_word = (static_cast<long>(part.end_cell) + 63) >> 6;
   MarkWord* __restrict marks = marks_.data();
-  for (long w = part.first_cell >> 6; w < end_word; ++w) {
+  for (long w = first_word(part), end = end_word(part); w < end; ++w) {
     marks[w].first_slot = static_cast<std::uint32_t>(s);
     for (std::uint64_t bits = marks[w].cells; bits != 0; bits &= bits - 1) {
       const long c = 64 * w + __builtin_ctzll(bits);
@@ -200,8 +200,7 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
 }
 
 void MomentumExchange::clear_marks(const Part& part) {
-  const long end_word = (static_cast<long>(part.end_cell) + 63) >> 6;
-  for (long w = part.first_cell >> 6; w < end_word; ++w) marks_[w].cells = 0;
+  for (long w = first_word(part), end = end_word(part); w < end; ++w) marks_[w].cells = 0;
 }
 
 template <int D>

@@ -133,7 +133,8 @@ class MomentumExchange {
     }
   };
   struct Part {
-    CellIndex first_cell = 0, end_cell = 0;  // a whole number of bitmap words, but for the last
+    CellIndex first_cell = 0, end_cell = 0;  // a whole number of bitmap words, but at the grid's end
+    long first_block = 0, end_block = 0;     // its counting blocks
     long base = 0, count = 0;                // its slots
   };
   // Cuts [0, cells) into `parts` ranges at block boundaries, each with about as many particles of
@@ -145,6 +146,11 @@ class MomentumExchange {
   // particles. The marks stay until clear_marks(part).
   void list_nodes(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum,
                   const std::vector<char>* anchored);
+  // The part's words of marks. A part starts on a word boundary, but for a part left empty at the
+  // grid's end (its cells [cells_, cells_)): rounded up, it has no word, where rounded down it had
+  // the last word of the part before it, and listed and cleared that part's marks as its own.
+  static long first_word(const Part& part) { return (static_cast<long>(part.first_cell) + 63) >> 6; }
+  static long end_word(const Part& part) { return (static_cast<long>(part.end_cell) + 63) >> 6; }
   // Unmarks the part's cells: the marks are all zero between exchanges.
   void clear_marks(const Part& part);
   // The comparison velocity and gain of the `count` nodes listed from slot `first` on, given
