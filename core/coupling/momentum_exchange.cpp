@@ -67,8 +67,9 @@ std::size_t MomentumExchange::Slots::bytes_allocated() const {
 }
 
 std::size_t MomentumExchange::bytes_allocated() const {
-  return (cell_.capacity() + slot_.capacity()) * sizeof(std::uint32_t) + marks_.capacity() * sizeof(MarkWord) +
-         block_count_.capacity() * sizeof(long) +
+  return (cell_.capacity() + slot_.capacity() + order_.capacity()) * sizeof(std::uint32_t) +
+         marks_.capacity() * sizeof(MarkWord) + part_of_block_.capacity() * sizeof(std::uint16_t) +
+         (block_count_.capacity() + range_counts_.capacity()) * sizeof(long) +
          parts_.capacity() * sizeof(Part) + slots_.bytes_allocated() + pairwise_dp_.capacity() * sizeof(fluid::Vec3);
 }
 
@@ -95,6 +96,8 @@ void MomentumExchange::cut_parts(int parts, parallel::ThreadPool* pool) {
     part.end_cell = static_cast<CellIndex>(std::min(block << block_shift_, cells_));
     part.end_block = block;
   }
+  sorted_ = parts >= kSortedParts;
+  if (sorted_) sort_by_part(pool);
   // Each part's nodes are its marked cells; its slots follow those of the parts before it.
   for_parts(pool, [&](int k) { mark_cells(parts_[k]); });
   long slots = 0;
@@ -108,6 +111,47 @@ void MomentumExchange::cut_parts(int parts, parallel::ThreadPool* pool) {
     slots_.pairwise_rho.resize(slots);
 }
 
+void MomentumExchange::sort_by_part(parallel::ThreadPool* pool) {
+  const int parts = parts_used_;
+  part_of_block_.resize(block_count_.size());
+  for (int k = 0; k < parts; ++k)
+    std::fill(part_of_block_.begin() + parts_[k].first_block, part_of_block_.begin() + parts_[k].end_block,
+              static_cast<std::uint16_t>(k));
+  // Range r of the particle indices (one a thread of the pool) counts its particles per part; the
+  // ranges then write their indices, in order, where their counts place them.
+  const long n = static_cast<long>(cell_.size());
+  const int ranges = std::min(parts, pool->size());
+  range_counts_.assign(static_cast<std::size_t>(ranges) * parts, 0);
+  const auto each_range = [&](const auto& work) {
+    pool->parallel_for(ranges, ranges, [&](long first, long end) {
+      for (long r = first; r < end; ++r) work(r, n * r / ranges, n * (r + 1) / ranges);
+    });
+  };
+  const CellIndex* __restrict cells = cell_.data();
+  const std::uint16_t* __restrict part_of_block = part_of_block_.data();
+  const int shift = block_shift_;
+  each_range([&](long r, long first, long end) {
+    long* __restrict counts = range_counts_.data() + r * parts;
+    for (long p = first; p < end; ++p) ++counts[part_of_block[cells[p] >> shift]];
+  });
+  long at = 0;  // range_counts_ becomes where each (range, part) writes: part by part, range by range
+  for (int k = 0; k < parts; ++k) {
+    parts_[k].first_particle = at;
+    for (int r = 0; r < ranges; ++r) {
+      const long count = range_counts_[r * parts + k];
+      range_counts_[r * parts + k] = at;
+      at += count;
+    }
+    parts_[k].end_particle = at;
+  }
+  order_.resize(n);
+  std::uint32_t* __restrict order = order_.data();
+  each_range([&](long r, long first, long end) {
+    long* __restrict next = range_counts_.data() + r * parts;
+    for (long p = first; p < end; ++p) order[next[part_of_block[cells[p] >> shift]]++] = static_cast<std::uint32_t>(p);
+  });
+}
+
 void MomentumExchange::mark_cells(Part& part) {
   const bool counts = parts_used_ > 1;  // for the next cut; one part needs no balance
   // Its own blocks: rounded from its cells, a part left empty at the grid's end had the last block
@@ -116,17 +160,14 @@ void MomentumExchange::mark_cells(Part& part) {
   const CellIndex* __restrict cells = cell_.data();
   MarkWord* __restrict marks = marks_.data();
   long* __restrict block_count = block_count_.data();
-  const CellIndex first = part.first_cell, end = part.end_cell;
-  const long n = static_cast<long>(cell_.size());
   long marked = 0;  // cells marked here for the first time: the part's nodes
-  for (long p = 0; p < n; ++p) {
+  for_each_particle(part, [&](long p) LBSOLID_FORCE_INLINE_LAMBDA {
     const CellIndex c = cells[p];
-    if (c < first || c >= end) continue;
     const std::uint64_t bit = std::uint64_t{1} << (c & 63);
     marked += (marks[c >> 6].cells & bit) == 0;
     marks[c >> 6].cells |= bit;
     if (counts) ++block_count[c >> block_shift_];
-  }
+  });
   part.count = marked;
 }
 
@@ -168,27 +209,24 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   std::uint32_t* __restrict slot_of_particle = slot_.data();
   const double* __restrict masses = mass.data();
   const double* __restrict momenta = momentum.data;
-  const CellIndex first = part.first_cell, end = part.end_cell;
-  const long n = static_cast<long>(cell_.size());
   // D components per particle and per slot (a 2D solid stores no z).
   // Anchors count at their node and add neither mass nor momentum (theirs is infinite, at rest).
   const char* __restrict anchor = anchored ? anchored->data() : nullptr;
   // Counting a word's marks takes popcnt where the CPU has it: run_with_isa.
   auto sum = [&]<int D, bool kAnchors>(std::integral_constant<int, D>, std::bool_constant<kAnchors>) {
     fluid::run_with_isa(fluid::kernel_isa(), [&]<fluid::KernelIsa I>(fluid::IsaTag<I>) LBSOLID_FORCE_INLINE_LAMBDA {
-      for (long p = 0; p < n; ++p) {
+      for_each_particle(part, [&](long p) LBSOLID_FORCE_INLINE_LAMBDA {
         const CellIndex c = cells[p];
-        if (c < first || c >= end) continue;
         const MarkWord& word = marks[c >> 6];
         const long slot = slot_of_cell<I>(word.cells, word.first_slot, c);
         slot_of_particle[p] = static_cast<std::uint32_t>(slot);
         if (kAnchors && anchor[p]) {
           ++slot_anchors[slot];
-          continue;
+          return;
         }
         slot_mass[slot] += masses[p];
         for (int a = 0; a < D; ++a) slot_momentum[slot * D + a] += momenta[p * D + a];
-      }
+      });
     });
   };
   auto with_anchors = [&]<int D>(std::integral_constant<int, D> dimension) {
@@ -257,16 +295,15 @@ void MomentumExchange::node_velocities(long first, long count, const fluid::Dens
 void MomentumExchange::pairwise_gains(const Part& part, const std::vector<double>& mass,
                                       const solid::ParticleVectors& momentum) {
   // Eq. 14 per particle: its dP depends on its own mass, so the node's gain is their sum.
-  for (long p = 0; p < static_cast<long>(cell_.size()); ++p) {
+  for_each_particle(part, [&](long p) {
     const CellIndex c = cell_[p];
-    if (c < part.first_cell || c >= part.end_cell) continue;
     const long s = slot_of_cell<fluid::kCompiledIsa>(marks_[c >> 6].cells, marks_[c >> 6].first_slot, c);
     const double z = 1.0 / (1.0 / slots_.pairwise_rho[s] + 1.0 / mass[p]);
     const fluid::Vec3 momentum_p = momentum[p];
     const fluid::Vec3 u = slots_.vector(slots_.velocity, s);
     for (int a = 0; a < 3; ++a) pairwise_dp_[p][a] = z * (momentum_p[a] / mass[p] - u[a]);
     for (int a = 0; a < slots_.dimension; ++a) slots_.gained[slots_.dimension * s + a] += pairwise_dp_[p][a];
-  }
+  });
 }
 
 ExchangedNodes MomentumExchange::exchanged() const {

@@ -59,9 +59,9 @@ long long particles_of(const v1::Body& body, int dimension) {
 // (solid/particle_vectors.h): body index 4, label 12, position, mass 8, momentum, the step's base
 // vector, per link a neighbour index 4 and a vector, an anchor flag 1 and the anchor record's 24
 // (scene/stages/anchor_record.h; counted whether or not a body is anchored: the estimate errs
-// high); exchange: cell 4, slot 4, a node record of 120 (at most one node per particle), the
-// pairwise rule's density 8 a node and dP 24, and with rotating bodies each particle's node 12 and the momenta compared
-// at the nodes; with rotating bodies, the torque record's 48 (scene/stages/torque_record.h); with
+// high); exchange: cell 4, slot 4, its place in the parts' order 4, a node record of 120 (at
+// most one node per particle), the pairwise rule's density 8 a node and dP 24, and with rotating
+// bodies each particle's node 12 and the momenta compared at the nodes; with rotating bodies, the torque record's 48 (scene/stages/torque_record.h); with
 // point loads or a breaking body, the particle forces' 2 x 24 and a touched index 4
 // (scene/stages/particle_forces.h), the fracture test's mask 1 and at most `dimension` broken
 // links of 40 (solid::BrokenLink) a particle.
@@ -70,7 +70,7 @@ long long bytes_per_particle(int dimension, bool with_fluid, bool rotating, bool
   const int links = 2 * dimension;
   const int vector = 8 * dimension;
   const long long solid = 4 + 12 + vector + 8 + vector + vector + links * (4 + vector) + 1 + 24;
-  const long long exchange = with_fluid ? 4 + 4 + 120 + 8 + 24 + (rotating ? 12 + vector : 0) : 0;
+  const long long exchange = with_fluid ? 4 + 4 + 4 + 120 + 8 + 24 + (rotating ? 12 + vector : 0) : 0;
   const long long torque = rotating ? 48 : 0;
   const long long forces = particle_forces ? 2 * 24 + 4 + 1 + dimension * 40 : 0;
   return 2 * (solid + exchange + torque + forces);

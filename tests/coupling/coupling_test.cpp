@@ -299,7 +299,8 @@ void expect_each_particle_meets_its_own_node(MomentumExchange& exchange, int nx,
 // own (on every instruction-set path: popcnt or a count in registers). Particles in random order
 // on random cells of a 200 x 3 grid (ten words, the last one short; the first and last cells of
 // words included), several on some cells. Twice, on other cells, to show no mark outlives its
-// exchange; in 1, 3 and 12 parts (more parts than the grid's ten blocks: some get no cells).
+// exchange; in 1, 3 and 12 parts (12: more than the grid's ten blocks, so some get no cells, and
+// enough for the particles to be sorted by part first, MomentumExchange::kSortedParts).
 TEST(MomentumExchange, EachParticleMeetsItsOwnNode) {
   const int nx = 200, ny = 3;
   std::mt19937 random(7);
@@ -327,12 +328,13 @@ TEST(MomentumExchange, EachParticleMeetsItsOwnNode) {
 // the others empty at the grid's end, inside that block's word. An empty part must touch no word:
 // it once listed the first part's marks of that word as its own and cleared them while the first
 // part, busy with its 20,000 particles on another thread, still needed them (wrong dP, and
-// writes past the slots; seen in most runs of this test).
+// writes past the slots; seen in most runs of this test). With 9 parts the particles are sorted
+// by part first (MomentumExchange::kSortedParts), and 8 parts are left empty.
 TEST(MomentumExchange, PartsLeftEmptyAtTheGridsEndTouchNoMark) {
   const int nx = 200, ny = 3;
   std::mt19937 random(11);
   parallel::ThreadPool pool(3);
-  for (int parts : {2, 3}) {
+  for (int parts : {2, 3, 9}) {
     MomentumExchange exchange({nx, ny, 1}, ExchangeRule::kCommonVelocity);
     for (int round = 0; round < 3; ++round) {
       std::vector<CellIndex> cells{5, 130};
