@@ -7,7 +7,9 @@
 #         to stderr whatever UBSAN_OPTIONS says, and a report from a daemon child could go unseen):
 #         lbsolid_core_tests (without the long physics and accuracy cases, see CORE_EXCLUDE),
 #         lbsolid_server_tests, lbsolid_session_tests and lbsolid_service_tests
-#   tsan  build-tsan, -DLBSOLID_SANITIZE=thread (gcc): the server, session and service tests
+#   tsan  build-tsan, -DLBSOLID_SANITIZE=thread (gcc): the server, session and service tests, and
+#         the core tests that run on several threads (lbsolid_core_threaded_tests: the fluid's
+#         threaded steps, the exchange's parts, the solid's parts, the monitors, the pool)
 #
 # The service tests start lbsolidd as a child (tests/service/daemon_process.cpp); it is built in the
 # same sanitized tree, inherits the *SAN_OPTIONS below and so writes its reports where the tests'
@@ -114,8 +116,10 @@ run_asan() {
 run_tsan() {
   local build=build-tsan t0 t1 t2 rc=0
   t0=$(timestamp)
-  # No core tests here: the kernels need not be fast, only built (LBSOLID_FORCE_INLINE=OFF).
-  configure_and_build "$build" thread "$(command -v gcc)" "$(command -v g++)" OFF lbsolid_server_tests lbsolid_session_tests lbsolid_service_tests lbsolidd
+  # Of the core tests only the threaded ones' files (tests/CMakeLists.txt): the rest run on one
+  # thread and are checked under ASan. The kernels need not be fast (LBSOLID_FORCE_INLINE=OFF).
+  configure_and_build "$build" thread "$(command -v gcc)" "$(command -v g++)" OFF lbsolid_core_threaded_tests \
+    lbsolid_server_tests lbsolid_session_tests lbsolid_service_tests lbsolidd
   t1=$(timestamp)
   local reports=$root/$build/sanitizer-reports
   rm -rf "$reports" && mkdir -p "$reports"
@@ -138,7 +142,7 @@ run_tsan() {
   # address bits than TSan knows (vm.mmap_rnd_bits > 28 on some recent kernels), run without ASLR.
   local launcher=()
   if setarch "$(uname -m)" -R true 2>/dev/null; then launcher=(setarch "$(uname -m)" -R); fi
-  "${launcher[@]}" ctest --test-dir "$build" -L '^(server|session|service)$' \
+  "${launcher[@]}" ctest --test-dir "$build" -L '^(core-threaded|server|session|service)$' --no-tests=error \
     --output-on-failure --parallel "$jobs" --timeout 900 || rc=$?
   unset TSAN_OPTIONS
   check_reports "$reports" || rc=1
