@@ -1,0 +1,140 @@
+// A measurement, not part of the build: the in-place D3Q19 pulling sweep (the odd step of the
+// AA pattern, BGK, no force) over one long line of a box's interior, in today's layout (19 arrays
+// of cells, ShiftedPull::run as the fluid uses it) and in blocks of W cells with a block's 19
+// population vectors side by side (cell c's population j at a[(c / W) Q W + j W + c mod W]).
+// In blocks every stream is addressed from the block pointer plus one of 9 offsets (one per
+// (c_y, c_z)) and a constant, instead of 38 stream pointers. Row ends are not treated (both
+// layouts alike; the fluid handles them apart); both sweeps start from the same random state
+// and every slot is compared after one sweep, then each is timed (best of `reps`).
+//
+//   g++ -std=c++20 -O3 -march=native -ffp-contract=off -DNDEBUG -Icore
+//       docs/experiments/aosoa_pull_probe.cpp -o /tmp/aosoa_pull_probe      (-DFLOAT for float)
+//   taskset -c 1 /tmp/aosoa_pull_probe 128 20     (a 128^3 box, 20 rounds)
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <vector>
+#include <algorithm>
+#include "fluid/shifted_pull.h"
+#include "lattice/d3q19.h"
+using namespace lbsolid;
+using L = lattice::D3Q19;
+#ifdef FLOAT
+using T = float;
+constexpr int W = 16, Q = L::Q;
+#else
+using T = double;
+constexpr int W = 8, Q = L::Q;
+#endif
+
+using V = fluid::Lanes<T, W>;
+using Bgk = fluid::BgkCollision<L, V>;
+constexpr auto opp = lattice::opposite_table<L>();
+constexpr int cx(int k) { return static_cast<int>(L::c[k][0]); }
+constexpr int cy(int k) { return static_cast<int>(L::c[k][1]); }
+constexpr int cz(int k) { return static_cast<int>(L::c[k][2]); }
+// (cy, cz) combination of direction k: 0..8
+constexpr int combo(int k) { return (cy(k) + 1) * 3 + (cz(k) + 1); }
+
+template <class F> LBSOLID_FORCE_INLINE void each(F&& body) {
+  [&]<int... K>(std::integer_sequence<int, K...>) LBSOLID_FORCE_INLINE_LAMBDA { (body(std::integral_constant<int, K>{}), ...); }(
+      std::make_integer_sequence<int, Q>{});
+}
+
+// The sweep in blocks: population K of cell c is read from array opp(K) at cell c - off(K).
+__attribute__((noinline)) void aosoa_run(T* a, long nx, long nxy, long begin, long end, T omega, T rho0) {
+  const T force[3] = {0, 0, 0};
+  const V force_v[3] = {V(force[0]), V(force[1]), V(force[2])};
+  const V omega_v(omega), rho0_v(rho0);
+  // Element offset of the block holding cell c - (cy n_x + cz n_xy), per combo (a multiple of W).
+  long o[9];
+  for (int m = 0; m < 9; ++m) o[m] = -((m / 3 - 1) * nx + (m % 3 - 1) * nxy) / W * Q * W;
+  V last[Q];
+  T* p0 = a + (begin / W) * Q * W;
+  // f*_K is written into the slot read for opp(K): array K at cell c + off(K). As in
+  // ShiftedPull::run, each x-shifted stream's aligned block is completed from this vector's
+  // results and the last one's; before the first, those lanes hold the slots as they are.
+  each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+    constexpr int x = cx(K);
+    const T* blk = p0 + o[combo(opp[K])] + K * W;  // array K, the block of cells begin + (cy nx + cz nxy)
+    if constexpr (x == 1) last[K] = fluid::lanes_from<1>(V::load_aligned(blk - Q * W), V::load_aligned(blk));
+    else if constexpr (x == -1) last[K] = fluid::lanes_from<W - 1>(V(0.0), V::load_aligned(blk - Q * W));
+  });
+  for (T* p = p0, *pend = a + (end / W) * Q * W; p < pend; p += Q * W) {
+    V f[Q];
+    each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+      constexpr int x = cx(K), j = opp[K];
+      const T* blk = p + o[combo(K)] + j * W;  // array j, block of cells c - (cy nx + cz nxy)
+      if constexpr (x == 0) f[K] = V::load_aligned(blk);
+      else if constexpr (x == 1) f[K] = fluid::lanes_from<W - 1>(V::load_aligned(blk - Q * W), V::load_aligned(blk));  // cells c-1..
+      else f[K] = fluid::lanes_from<1>(V::load_aligned(blk), V::load_aligned(blk + Q * W));  // cells c+1..
+    });
+    const auto state = Bgk::template node_state<false>(f, rho0_v, force_v);
+    each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+      f[K] = Bgk::template relaxed<false, K>(f[K], state, omega_v, force_v);
+    });
+    each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+      constexpr int x = cx(K);
+      T* blk = p + o[combo(opp[K])] + K * W;  // array K, block of cells c + (cy nx + cz nxy)
+      if constexpr (x == 0) f[K].store_aligned(blk);
+      else if constexpr (x == 1) {  // the block holds the results of cells c-1 .. c+W-2
+        fluid::lanes_from<W - 1>(last[K], f[K]).store_aligned(blk);
+      } else {  // the block before holds those of cells c-W+1 .. c
+        fluid::lanes_from<1>(last[K], f[K]).store_aligned(blk - Q * W);
+      }
+      last[K] = f[K];
+    });
+  }
+  T* pe = a + (end / W) * Q * W;
+  each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+    constexpr int x = cx(K);
+    T* blk = pe + o[combo(opp[K])] + K * W;
+    if constexpr (x == 1) {
+      const V cur = V::load_aligned(blk);
+      fluid::lanes_from<W - 1>(last[K], fluid::lanes_from<1>(cur, cur)).store_aligned(blk);
+    } else if constexpr (x == -1) {
+      const V cur = V::load_aligned(blk - Q * W);
+      fluid::lanes_from<1>(last[K], fluid::lanes_from<W - 1>(cur, cur)).store_aligned(blk - Q * W);
+    }
+  });
+}
+
+int main(int argc, char** argv) {
+  const long n = argc > 1 ? atol(argv[1]) : 128;
+  const int reps = argc > 2 ? atoi(argv[2]) : 10;
+  const long nx = n, ny = n, nz = n, nxy = nx * ny, cells = nxy * nz;
+  const long stride = cells;
+  std::vector<T> soa_buf(Q * stride + 64), aos_buf(Q * stride + 64);
+  T* soa = reinterpret_cast<T*>((reinterpret_cast<uintptr_t>(soa_buf.data()) + 63) & ~uintptr_t(63));
+  T* aos = reinterpret_cast<T*>((reinterpret_cast<uintptr_t>(aos_buf.data()) + 63) & ~uintptr_t(63));
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<T> u(0.9 / 19, 1.1 / 19);
+  for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) {
+    const T v = u(rng); soa[j * stride + c] = v; aos[(c / W) * Q * W + j * W + c % W] = v; }
+  const long begin = 2 * nxy, end = (nz - 2) * nxy;  // whole vectors, z neighbours inside
+  auto off = [&](int k) { return cx(k) + cy(k) * nx + cz(k) * nxy; };
+  const T* in[Q]; T* out[Q];
+  for (int k = 0; k < Q; ++k) in[k] = soa + opp[k] * stride - off(k);
+  for (int k = 0; k < Q; ++k) out[k] = soa + k * stride + off(k);
+  using SP = fluid::ShiftedPull<L, T, W>;
+  const T force[3] = {0, 0, 0};
+  if (!SP::streams_fit(in, out)) { printf("streams do not fit\n"); return 1; }
+  // One sweep each from the same state, then every slot compared.
+  SP::run<false>(in, out, force, 1.3, 1.0, begin, end);
+  aosoa_run(aos, nx, nxy, begin, end, 1.3, 1.0);
+  long bad = 0;
+  for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c)
+    if (soa[j * stride + c] != aos[(c / W) * Q * W + j * W + c % W]) ++bad;
+  printf("slots differing after one sweep: %ld of %ld\n", bad, Q * cells);
+  double best[2] = {1e9, 1e9};
+  for (int r = 0; r < reps; ++r) for (int v = 0; v < 2; ++v) {
+    auto t0 = std::chrono::steady_clock::now();
+    if (v == 0) SP::run<false>(in, out, force, 1.0, 1.0, begin, end);
+    else aosoa_run(aos, nx, nxy, begin, end, 1.0, 1.0);
+    best[v] = std::min(best[v], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  const double m = (end - begin) / 1e6;
+  printf("n=%ld sweep of %ld cells: SoA %.1f MLUPS, AoSoA %.1f MLUPS\n", n, end - begin, m / best[0], m / best[1]);
+}
