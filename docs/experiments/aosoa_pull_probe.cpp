@@ -8,10 +8,13 @@
 // ends are not treated (both layouts alike; the fluid handles them apart). Both layouts start
 // from the same random state; every slot is compared after a pulling and a local sweep, then
 // each sweep is timed (best of `reps` rounds, the variants in turn), and a gather of the 3D
-// scene's nodes' moments (what the coupling reads) right after a local sweep.
+// scene's nodes' moments (what the coupling reads) right after a local sweep. Last, a pulling
+// sweep in blocks with each row periodic in x, checked against a scalar reference and timed
+// against the line and the fluid's own pulling step (which needs the core library built).
 //
 //   g++ -std=c++20 -O3 -march=native -ffp-contract=off -DNDEBUG -Icore
-//       docs/experiments/aosoa_pull_probe.cpp -o /tmp/aosoa_pull_probe      (-DFLOAT for float)
+//       docs/experiments/aosoa_pull_probe.cpp build/core/liblbsolid_core.a -lpthread
+//       -o /tmp/aosoa_pull_probe                                    (-DFLOAT for float)
 //   taskset -c 1 /tmp/aosoa_pull_probe 128 20     (a 128^3 box, 20 rounds; a third argument:
 //                                                  the pulling sweeps alone)
 #include <chrono>
@@ -22,6 +25,7 @@
 #include <vector>
 #include <algorithm>
 #include <cmath>
+#include "fluid/fluid_lattice.h"
 #include "fluid/population_storage.h"
 #include "fluid/shifted_pull.h"
 #include "lattice/d3q19.h"
@@ -111,6 +115,60 @@ __attribute__((noinline)) void aosoa_run(T* a, long nx, long nxy, long begin, lo
       fluid::lanes_from<1>(last[K], fluid::lanes_from<W - 1>(cur, cur)).store_aligned(blk - BS);
     }
   });
+}
+
+// The pulling sweep in blocks row by row, each row periodic in x (as the fluid's rows are): the
+// first block takes its c_x = +1 inputs from the row's last block and the last its c_x = -1
+// inputs from the first; the two lines of each shifted stream that hold the wrapped cells' slots
+// are written at the row's end, from the first block's results kept until then.
+__attribute__((noinline)) void blocks_rows_run(T* a, long nx, long nxy, long first_row, long end_row, T omega,
+                                               T rho0) {
+  const V force_v[3] = {V(0.0), V(0.0), V(0.0)};
+  const V omega_v(omega), rho0_v(rho0);
+  const long nb = nx / W;
+  long o[9];
+  for (int m = 0; m < 9; ++m) o[m] = -((m / 3 - 1) * nx + (m % 3 - 1) * nxy) / W * BS;
+  for (long row = first_row; row < end_row; ++row) {
+    T* const r0 = a + row * nb * BS;
+    V last[Q], first_f[Q];
+    auto block = [&]<bool kFirst>(std::bool_constant<kFirst>, long b) LBSOLID_FORCE_INLINE_LAMBDA {
+      T* const p = r0 + b * BS;
+      const long prev = b == 0 ? (nb - 1) * BS : -BS;  // the block before in x, wrapping in the row
+      const long next = b == nb - 1 ? -(nb - 1) * BS : BS;
+      V f[Q];
+      each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+        constexpr int x = cx(K), j = opp[K];
+        const T* blk = p + o[combo(K)] + j * W;
+        if constexpr (x == 0) f[K] = V::load_aligned(blk);
+        else if constexpr (x == 1) f[K] = fluid::lanes_from<W - 1>(V::load_aligned(blk + prev), V::load_aligned(blk));
+        else f[K] = fluid::lanes_from<1>(V::load_aligned(blk), V::load_aligned(blk + next));
+      });
+      const auto state = Bgk::template node_state<false>(f, rho0_v, force_v);
+      each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+        f[K] = Bgk::template relaxed<false, K>(f[K], state, omega_v, force_v);
+      });
+      each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+        constexpr int x = cx(K);
+        T* blk = p + o[combo(opp[K])] + K * W;
+        if constexpr (x == 0) {
+          f[K].store_aligned(blk);
+        } else {
+          if constexpr (kFirst) first_f[K] = f[K];
+          else if constexpr (x == 1) fluid::lanes_from<W - 1>(last[K], f[K]).store_aligned(blk);
+          else fluid::lanes_from<1>(last[K], f[K]).store_aligned(blk - BS);
+          last[K] = f[K];
+        }
+      });
+    };
+    block(std::true_type{}, 0);
+    for (long b = 1; b < nb; ++b) block(std::false_type{}, b);
+    each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+      constexpr int x = cx(K);
+      T* blk0 = r0 + o[combo(opp[K])] + K * W;
+      if constexpr (x == 1) fluid::lanes_from<W - 1>(last[K], first_f[K]).store_aligned(blk0);
+      else if constexpr (x == -1) fluid::lanes_from<1>(last[K], first_f[K]).store_aligned(blk0 + (nb - 1) * BS);
+    });
+  }
 }
 
 // The even (local) step: each cell's own 19 populations, written back reversed (array opp(K)).
@@ -205,6 +263,46 @@ int main(int argc, char** argv) {
     else if (v == 2) local_run<false>(soa, stride, begin, end, 1.0, 1.0);
     else local_run<true>(aos, stride, begin, end, 1.0, 1.0);
     best[v] = std::min(best[v], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  // Rows periodic in x: blocks_rows_run against a scalar reference (rows wrap in x; y and z
+  // offsets as in the line), from the same state, every slot compared; then timed against the
+  // line sweep in blocks (which leaves the row ends wrong) and the fluid's own in-place pulling
+  // step on a periodic box of the same size (its row ends right, through its edge buffers).
+  {
+    std::vector<T> ref(Q * cells), before(Q * cells);
+    for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) before[j * cells + c] = aos[(c / W) * BS + j * W + c % W];
+    ref = before;
+    using Scalar = fluid::BgkCollision<L, T>;
+    const long first_row = 2 * ny, end_row = (nz - 2) * ny;
+    auto pos = [&](long c, int sx, long yz) { const long rs = c / nx * nx; return rs + ((c - rs + sx) % nx + nx) % nx + yz; };
+    for (long c = first_row * nx; c < end_row * nx; ++c) {
+      T fin[Q];
+      for (int k = 0; k < Q; ++k) fin[k] = before[opp[k] * cells + pos(c, -cx(k), -(cy(k) * nx + cz(k) * nxy))];
+      const auto st = Scalar::template node_state<false>(fin, T(1.0), force);
+      [&]<int... K>(std::integer_sequence<int, K...>) {
+        ((ref[K * cells + pos(c, cx(K), cy(K) * nx + cz(K) * nxy)] = Scalar::template relaxed<false, K>(fin[K], st, T(1.3), force)), ...);
+      }(std::make_integer_sequence<int, Q>{});
+    }
+    blocks_rows_run(aos, nx, nxy, first_row, end_row, 1.3, 1.0);
+    long bad = 0;
+    for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c)
+      if (ref[j * cells + c] != aos[(c / W) * BS + j * W + c % W]) ++bad;
+    printf("rows periodic in x, blocks against the scalar reference: %ld of %ld slots differ\n", bad, Q * cells);
+    fluid::FluidConfig config;
+    config.nx = static_cast<int>(nx); config.ny = static_cast<int>(ny); config.nz = static_cast<int>(nz); config.omega = 1.0;
+    fluid::FluidLattice<L, T> lattice(config);
+    lattice.run(2);
+    double t[3] = {1e9, 1e9, 1e9};
+    for (int r = 0; r < reps; ++r) for (int v = 0; v < 3; ++v) {
+      if (v == 2) lattice.step();  // the local step, untimed
+      auto t0 = std::chrono::steady_clock::now();
+      if (v == 0) blocks_rows_run(aos, nx, nxy, first_row, end_row, 1.0, 1.0);
+      else if (v == 1) aosoa_run(aos, nx, nxy, begin, end, 1.0, 1.0);
+      else lattice.step();
+      t[v] = std::min(t[v], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    printf("pulling MLUPS: blocks, rows periodic %.1f; blocks, one line %.1f; the fluid's step (19 arrays, periodic box) %.1f\n",
+           (end - begin) / t[0] / 1e6, (end - begin) / t[1] / 1e6, cells / t[2] / 1e6);
   }
   // The 3D scene's nodes: 27 balls of radius 4 on a 3 x 3 x 3 grid, in cell order. Each gather
   // runs right after a local sweep of its layout, as the coupling's runs after the fluid's step.
