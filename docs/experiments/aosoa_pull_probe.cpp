@@ -304,6 +304,8 @@ int main(int argc, char** argv) {
     printf("pulling MLUPS: blocks, rows periodic %.1f; blocks, one line %.1f; the fluid's step (19 arrays, periodic box) %.1f\n",
            (end - begin) / t[0] / 1e6, (end - begin) / t[1] / 1e6, cells / t[2] / 1e6);
   }
+  // The sweeps above stepped the blocks alone: the same state in both layouts again.
+  for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) aos[(c / W) * BS + j * W + c % W] = soa[j * stride + c];
   // The 3D scene's nodes: 27 balls of radius 4 on a 3 x 3 x 3 grid, in cell order. Each gather
   // runs right after a local sweep of its layout, as the coupling's runs after the fluid's step.
   std::vector<long> nodes;
