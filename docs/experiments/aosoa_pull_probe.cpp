@@ -123,8 +123,7 @@ __attribute__((noinline)) void aosoa_run(T* a, long nx, long nxy, long begin, lo
 // where the sweep has just been, not a row ahead. The shifted streams' lines that hold block 0's
 // or block 1's results are written once block 0 is done, from block 1's and block nb - 1's
 // results kept until then. (The order 0 .. nb - 1, in which block 0 reads the row's last
-// block a row ahead of the sweep, measured the same: both run at a third of the line's speed at
-// 64^3, why is not found yet.)
+// block a row ahead of the sweep, measured the same.)
 __attribute__((noinline)) void blocks_rows_run(T* a, long nx, long nxy, long first_row, long end_row, T omega,
                                                T rho0) {
   const V force_v[3] = {V(0.0), V(0.0), V(0.0)};
@@ -132,14 +131,20 @@ __attribute__((noinline)) void blocks_rows_run(T* a, long nx, long nxy, long fir
   const long nb = nx / W;
   long o[9];
   for (int m = 0; m < 9; ++m) o[m] = -((m / 3 - 1) * nx + (m % 3 - 1) * nxy) / W * BS;
-  enum Kind { kSecond, kMiddle, kFirst };  // block 1 (taken first), blocks 2 .. nb - 1, block 0 (last)
+  // Block 1 (taken first), blocks 2 .. nb - 2, block nb - 1, block 0 (taken last). Only blocks 0
+  // and nb - 1 reach across the row's wrap; the others' neighbours are constant offsets, which
+  // the compiler folds into the loads (a neighbour offset chosen at run time for every block
+  // made the sweep twice as slow at 64^3). nb >= 3. With four kinds of block GCC spills the
+  // double sweep's registers (docs/performance.md): one block body would be the next try.
+  enum Kind { kSecond, kMiddle, kLastBlock, kFirst };
   for (long row = first_row; row < end_row; ++row) {
     T* const r0 = a + row * nb * BS;
     V last[Q], second[Q], last_block[Q];
     auto block = [&]<int kKind>(std::integral_constant<int, kKind>, long b) LBSOLID_FORCE_INLINE_LAMBDA {
       T* const p = r0 + b * BS;
-      const long prev = b == 0 ? (nb - 1) * BS : -BS;  // the block before in x, wrapping in the row
-      const long next = b == nb - 1 ? -(nb - 1) * BS : BS;
+      long prev = -BS, next = BS;  // the blocks before and after in x, wrapping in the row
+      if constexpr (kKind == kFirst) prev = (nb - 1) * BS;
+      if constexpr (kKind == kLastBlock) next = -(nb - 1) * BS;
       V f[Q];
       each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
         constexpr int x = cx(K), j = opp[K];
@@ -167,7 +172,8 @@ __attribute__((noinline)) void blocks_rows_run(T* a, long nx, long nxy, long fir
       });
     };
     block(std::integral_constant<int, kSecond>{}, 1);
-    for (long b = 2; b < nb; ++b) block(std::integral_constant<int, kMiddle>{}, b);
+    for (long b = 2; b < nb - 1; ++b) block(std::integral_constant<int, kMiddle>{}, b);
+    block(std::integral_constant<int, kLastBlock>{}, nb - 1);
     block(std::integral_constant<int, kFirst>{}, 0);
     // last: block 0's results; last_block: block nb - 1's; second: block 1's.
     each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
@@ -281,7 +287,7 @@ int main(int argc, char** argv) {
   // offsets as in the line), from the same state, every slot compared; then timed against the
   // line sweep in blocks (which leaves the row ends wrong) and the fluid's own in-place pulling
   // step on a periodic box of the same size (its row ends right, through its edge buffers).
-  {
+  if (nx / W >= 3) {
     std::vector<T> ref(Q * cells), before(Q * cells);
     for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) before[j * cells + c] = aos[(c / W) * BS + j * W + c % W];
     ref = before;
