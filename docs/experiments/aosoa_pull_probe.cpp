@@ -134,12 +134,16 @@ __attribute__((noinline)) void blocks_rows_run(T* a, long nx, long nxy, long fir
   // Block 1 (taken first), blocks 2 .. nb - 2, block nb - 1, block 0 (taken last). Only blocks 0
   // and nb - 1 reach across the row's wrap; the others' neighbours are constant offsets, which
   // the compiler folds into the loads (a neighbour offset chosen at run time for every block
-  // made the sweep twice as slow at 64^3). nb >= 3. With four kinds of block GCC spills the
-  // double sweep's registers (docs/performance.md): one block body would be the next try.
+  // made the sweep twice as slow at 64^3). nb >= 3.
   enum Kind { kSecond, kMiddle, kLastBlock, kFirst };
   for (long row = first_row; row < end_row; ++row) {
     T* const r0 = a + row * nb * BS;
-    V last[Q], second[Q], last_block[Q];
+    V last[Q];
+    // Blocks 1's and nb - 1's results wait in memory for the row's end: kept as values (20
+    // more vector registers through the row) GCC spilled the double sweep's registers and it
+    // ran at a third of the line's speed; this way double runs near the line at 128^3 and float
+    // at half of it (docs/performance.md).
+    alignas(64) T second[Q][W], last_block[Q][W];
     auto block = [&]<int kKind>(std::integral_constant<int, kKind>, long b) LBSOLID_FORCE_INLINE_LAMBDA {
       T* const p = r0 + b * BS;
       long prev = -BS, next = BS;  // the blocks before and after in x, wrapping in the row
@@ -163,8 +167,8 @@ __attribute__((noinline)) void blocks_rows_run(T* a, long nx, long nxy, long fir
         if constexpr (x == 0) {
           f[K].store_aligned(blk);
         } else {
-          if constexpr (kKind == kSecond) second[K] = f[K];
-          else if constexpr (kKind == kFirst) last_block[K] = last[K];
+          if constexpr (kKind == kSecond) f[K].store_aligned(second[K]);
+          else if constexpr (kKind == kFirst) last[K].store_aligned(last_block[K]);
           else if constexpr (x == 1) fluid::lanes_from<W - 1>(last[K], f[K]).store_aligned(blk);
           else fluid::lanes_from<1>(last[K], f[K]).store_aligned(blk - BS);
           last[K] = f[K];
@@ -180,11 +184,11 @@ __attribute__((noinline)) void blocks_rows_run(T* a, long nx, long nxy, long fir
       constexpr int x = cx(K);
       T* blk0 = r0 + o[combo(opp[K])] + K * W;
       if constexpr (x == 1) {
-        fluid::lanes_from<W - 1>(last_block[K], last[K]).store_aligned(blk0);
-        fluid::lanes_from<W - 1>(last[K], second[K]).store_aligned(blk0 + BS);
+        fluid::lanes_from<W - 1>(V::load_aligned(last_block[K]), last[K]).store_aligned(blk0);
+        fluid::lanes_from<W - 1>(last[K], V::load_aligned(second[K])).store_aligned(blk0 + BS);
       } else if constexpr (x == -1) {
-        fluid::lanes_from<1>(last_block[K], last[K]).store_aligned(blk0 + (nb - 1) * BS);
-        fluid::lanes_from<1>(last[K], second[K]).store_aligned(blk0);
+        fluid::lanes_from<1>(V::load_aligned(last_block[K]), last[K]).store_aligned(blk0 + (nb - 1) * BS);
+        fluid::lanes_from<1>(last[K], V::load_aligned(second[K])).store_aligned(blk0);
       }
     });
   }
