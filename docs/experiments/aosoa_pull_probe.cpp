@@ -194,6 +194,61 @@ __attribute__((noinline)) void blocks_rows_run(T* a, long nx, long nxy, long fir
   }
 }
 
+// The same with the line's own loop (aosoa_run, which compiles well in both precisions) over a
+// row's middle blocks 1 .. nb - 2, then blocks 0 and nb - 1 with the row's wrap, and the lines
+// they share with the middle corrected lane by lane. nb >= 3.
+__attribute__((noinline)) void blocks_rows_run_line(T* a, long nx, long nxy, long first_row, long end_row,
+                                                    T omega, T rho0) {
+  const V force_v[3] = {V(0.0), V(0.0), V(0.0)};
+  const V omega_v(omega), rho0_v(rho0);
+  const long nb = nx / W;
+  long o[9];
+  for (int m = 0; m < 9; ++m) o[m] = -((m / 3 - 1) * nx + (m % 3 - 1) * nxy) / W * BS;
+  for (long row = first_row; row < end_row; ++row) {
+    aosoa_run(a, nx, nxy, row * nx + W, row * nx + nx - W, omega, rho0);
+    T* const r0 = a + row * nb * BS;
+    T* const rl = r0 + (nb - 1) * BS;
+    const long wrap = (nb - 1) * BS;
+    auto collide = [&](T* p, long prev, long next, V (&f)[Q]) LBSOLID_FORCE_INLINE_LAMBDA {
+      each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+        constexpr int x = cx(K), j = opp[K];
+        const T* blk = p + o[combo(K)] + j * W;
+        if constexpr (x == 0) f[K] = V::load_aligned(blk);
+        else if constexpr (x == 1) f[K] = fluid::lanes_from<W - 1>(V::load_aligned(blk + prev), V::load_aligned(blk));
+        else f[K] = fluid::lanes_from<1>(V::load_aligned(blk), V::load_aligned(blk + next));
+      });
+      const auto state = Bgk::template node_state<false>(f, rho0_v, force_v);
+      each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+        f[K] = Bgk::template relaxed<false, K>(f[K], state, omega_v, force_v);
+      });
+    };
+    V f0[Q], fl[Q];
+    collide(r0, wrap, BS, f0);
+    collide(rl, -BS, -wrap, fl);
+    each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+      constexpr int x = cx(K);
+      T* d0 = r0 + o[combo(opp[K])] + K * W;  // block 0's line of this stream's results
+      T* dl = rl + o[combo(opp[K])] + K * W;  // block nb - 1's
+      if constexpr (x == 0) {
+        f0[K].store_aligned(d0);
+        fl[K].store_aligned(dl);
+      } else if constexpr (x == 1) {  // a block's line holds the results of cells bW - 1 .. bW + W - 2
+        fluid::lanes_from<W - 1>(fl[K], f0[K]).store_aligned(d0);
+        const V next = V::load_aligned(d0 + BS);  // lane 0 (cell W - 1) left as it was by the middle
+        fluid::lanes_from<W - 1>(f0[K], fluid::lanes_from<1>(next, next)).store_aligned(d0 + BS);
+        const V own = V::load_aligned(dl);  // lane 0 (cell nx - W - 1) is the middle's
+        fluid::lanes_from<W - 1>(fluid::lanes_from<1>(own, own), fl[K]).store_aligned(dl);
+      } else {  // a block's line holds the results of cells bW + 1 .. bW + W
+        const V own = V::load_aligned(d0);  // lane W - 1 (cell W) is the middle's
+        fluid::lanes_from<1>(f0[K], fluid::lanes_from<W - 1>(own, own)).store_aligned(d0);
+        const V before = V::load_aligned(dl - BS);  // lanes 0 .. W - 2 are the middle's
+        fluid::lanes_from<1>(fluid::lanes_from<W - 1>(before, before), fl[K]).store_aligned(dl - BS);
+        fluid::lanes_from<1>(fl[K], f0[K]).store_aligned(dl);
+      }
+    });
+  }
+}
+
 // The even (local) step: each cell's own 19 populations, written back reversed (array opp(K)).
 // In 19 arrays: population K of cell c at f[K stride + c]; in blocks: at its block's K W + lane.
 template <bool kBlocks>
@@ -306,26 +361,34 @@ int main(int argc, char** argv) {
         ((ref[K * cells + pos(c, cx(K), cy(K) * nx + cz(K) * nxy)] = Scalar::template relaxed<false, K>(fin[K], st, T(1.3), force)), ...);
       }(std::make_integer_sequence<int, Q>{});
     }
+    auto differing = [&] {
+      long bad = 0;
+      for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c)
+        if (ref[j * cells + c] != aos[(c / W) * BS + j * W + c % W]) ++bad;
+      return bad;
+    };
     blocks_rows_run(aos, nx, nxy, first_row, end_row, 1.3, 1.0);
-    long bad = 0;
-    for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c)
-      if (ref[j * cells + c] != aos[(c / W) * BS + j * W + c % W]) ++bad;
-    printf("rows periodic in x, blocks against the scalar reference: %ld of %ld slots differ\n", bad, Q * cells);
+    printf("rows periodic in x, blocks against the scalar reference: %ld of %ld slots differ\n", differing(), Q * cells);
+    for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) aos[(c / W) * BS + j * W + c % W] = before[j * cells + c];
+    blocks_rows_run_line(aos, nx, nxy, first_row, end_row, 1.3, 1.0);
+    printf("the same through the line's loop: %ld of %ld slots differ\n", differing(), Q * cells);
     fluid::FluidConfig config;
     config.nx = static_cast<int>(nx); config.ny = static_cast<int>(ny); config.nz = static_cast<int>(nz); config.omega = 1.0;
     fluid::FluidLattice<L, T> lattice(config);
     lattice.run(2);
-    double t[3] = {1e9, 1e9, 1e9};
-    for (int r = 0; r < reps; ++r) for (int v = 0; v < 3; ++v) {
+    double t[4] = {1e9, 1e9, 1e9, 1e9};
+    for (int r = 0; r < reps; ++r) for (int v = 0; v < 4; ++v) {
       if (v == 2) lattice.step();  // the local step, untimed
       auto t0 = std::chrono::steady_clock::now();
       if (v == 0) blocks_rows_run(aos, nx, nxy, first_row, end_row, 1.0, 1.0);
       else if (v == 1) aosoa_run(aos, nx, nxy, begin, end, 1.0, 1.0);
-      else lattice.step();
+      else if (v == 2) lattice.step();
+      else blocks_rows_run_line(aos, nx, nxy, first_row, end_row, 1.0, 1.0);
       t[v] = std::min(t[v], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
-    printf("pulling MLUPS: blocks, rows periodic %.1f; blocks, one line %.1f; the fluid's step (19 arrays, periodic box) %.1f\n",
-           (end - begin) / t[0] / 1e6, (end - begin) / t[1] / 1e6, cells / t[2] / 1e6);
+    printf("pulling MLUPS: blocks, rows periodic %.1f, through the line's loop %.1f; blocks, one line %.1f; "
+           "the fluid's step (19 arrays, periodic box) %.1f\n", (end - begin) / t[0] / 1e6, (end - begin) / t[3] / 1e6,
+           (end - begin) / t[1] / 1e6, cells / t[2] / 1e6);
   }
   // The sweeps above stepped the blocks alone: the same state in both layouts again.
   for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) aos[(c / W) * BS + j * W + c % W] = soa[j * stride + c];
