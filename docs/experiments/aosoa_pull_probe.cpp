@@ -117,6 +117,24 @@ __attribute__((noinline)) void aosoa_run(T* a, long nx, long nxy, long begin, lo
   });
 }
 
+// Block p's results in f: its inputs from the blocks of the 9 row offsets o, the x-shifted
+// lanes from the blocks `prev` and `next` values away (the row's wrap where it applies).
+LBSOLID_FORCE_INLINE void pull_collide_block(const T* p, const long (&o)[9], long prev, long next, V omega_v,
+                                             V rho0_v, V (&f)[Q]) {
+  const V force_v[3] = {V(0.0), V(0.0), V(0.0)};
+  each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+    constexpr int x = cx(K), j = opp[K];
+    const T* blk = p + o[combo(K)] + j * W;
+    if constexpr (x == 0) f[K] = V::load_aligned(blk);
+    else if constexpr (x == 1) f[K] = fluid::lanes_from<W - 1>(V::load_aligned(blk + prev), V::load_aligned(blk));
+    else f[K] = fluid::lanes_from<1>(V::load_aligned(blk), V::load_aligned(blk + next));
+  });
+  const auto state = Bgk::template node_state<false>(f, rho0_v, force_v);
+  each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+    f[K] = Bgk::template relaxed<false, K>(f[K], state, omega_v, force_v);
+  });
+}
+
 // The pulling sweep in blocks row by row, each row periodic in x (as the fluid's rows are).
 // A row's blocks are taken in the order 1, 2, .., nb - 1, 0, so that the wrapped inputs (block
 // 0's c_x = +1 lanes from block nb - 1, block nb - 1's c_x = -1 lanes from block 0) are read
@@ -126,7 +144,6 @@ __attribute__((noinline)) void aosoa_run(T* a, long nx, long nxy, long begin, lo
 // block a row ahead of the sweep, measured the same.)
 __attribute__((noinline)) void blocks_rows_run(T* a, long nx, long nxy, long first_row, long end_row, T omega,
                                                T rho0) {
-  const V force_v[3] = {V(0.0), V(0.0), V(0.0)};
   const V omega_v(omega), rho0_v(rho0);
   const long nb = nx / W;
   long o[9];
@@ -150,17 +167,7 @@ __attribute__((noinline)) void blocks_rows_run(T* a, long nx, long nxy, long fir
       if constexpr (kKind == kFirst) prev = (nb - 1) * BS;
       if constexpr (kKind == kLastBlock) next = -(nb - 1) * BS;
       V f[Q];
-      each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
-        constexpr int x = cx(K), j = opp[K];
-        const T* blk = p + o[combo(K)] + j * W;
-        if constexpr (x == 0) f[K] = V::load_aligned(blk);
-        else if constexpr (x == 1) f[K] = fluid::lanes_from<W - 1>(V::load_aligned(blk + prev), V::load_aligned(blk));
-        else f[K] = fluid::lanes_from<1>(V::load_aligned(blk), V::load_aligned(blk + next));
-      });
-      const auto state = Bgk::template node_state<false>(f, rho0_v, force_v);
-      each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
-        f[K] = Bgk::template relaxed<false, K>(f[K], state, omega_v, force_v);
-      });
+      pull_collide_block(p, o, prev, next, omega_v, rho0_v, f);
       each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
         constexpr int x = cx(K);
         T* blk = p + o[combo(opp[K])] + K * W;
@@ -199,7 +206,6 @@ __attribute__((noinline)) void blocks_rows_run(T* a, long nx, long nxy, long fir
 // they share with the middle corrected lane by lane. nb >= 3.
 __attribute__((noinline)) void blocks_rows_run_line(T* a, long nx, long nxy, long first_row, long end_row,
                                                     T omega, T rho0) {
-  const V force_v[3] = {V(0.0), V(0.0), V(0.0)};
   const V omega_v(omega), rho0_v(rho0);
   const long nb = nx / W;
   long o[9];
@@ -209,22 +215,9 @@ __attribute__((noinline)) void blocks_rows_run_line(T* a, long nx, long nxy, lon
     T* const r0 = a + row * nb * BS;
     T* const rl = r0 + (nb - 1) * BS;
     const long wrap = (nb - 1) * BS;
-    auto collide = [&](T* p, long prev, long next, V (&f)[Q]) LBSOLID_FORCE_INLINE_LAMBDA {
-      each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
-        constexpr int x = cx(K), j = opp[K];
-        const T* blk = p + o[combo(K)] + j * W;
-        if constexpr (x == 0) f[K] = V::load_aligned(blk);
-        else if constexpr (x == 1) f[K] = fluid::lanes_from<W - 1>(V::load_aligned(blk + prev), V::load_aligned(blk));
-        else f[K] = fluid::lanes_from<1>(V::load_aligned(blk), V::load_aligned(blk + next));
-      });
-      const auto state = Bgk::template node_state<false>(f, rho0_v, force_v);
-      each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
-        f[K] = Bgk::template relaxed<false, K>(f[K], state, omega_v, force_v);
-      });
-    };
     V f0[Q], fl[Q];
-    collide(r0, wrap, BS, f0);
-    collide(rl, -BS, -wrap, fl);
+    pull_collide_block(r0, o, wrap, BS, omega_v, rho0_v, f0);
+    pull_collide_block(rl, o, -BS, -wrap, omega_v, rho0_v, fl);
     each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
       constexpr int x = cx(K);
       T* d0 = r0 + o[combo(opp[K])] + K * W;  // block 0's line of this stream's results
