@@ -9,8 +9,10 @@
 // from the same random state; every slot is compared after a pulling and a local sweep, then
 // each sweep is timed (best of `reps` rounds, the variants in turn), and a gather of the 3D
 // scene's nodes' moments (what the coupling reads) right after a local sweep. Last, a pulling
-// sweep in blocks with each row periodic in x, checked against a scalar reference and timed
-// against the line and the fluid's own pulling step (which needs the core library built).
+// sweep in blocks with each row periodic in x, row by row and as joined rows (chunks of
+// JOINED_ROWS rows swept as one line, the joins put right in two ways), checked against a scalar
+// reference and timed against the line and the fluid's own steps (which need the core library
+// built).
 //
 //   g++ -std=c++20 -O3 -march=native -ffp-contract=off -DNDEBUG -Icore
 //       docs/experiments/aosoa_pull_probe.cpp build/core/liblbsolid_core.a -lpthread
@@ -41,6 +43,10 @@ constexpr int W = 8, Q = L::Q;
 // A block's length in values: its Q population vectors (padding it by 1, 3 or 5 vectors changed
 // nothing measurable).
 constexpr long BS = Q * W;
+#ifndef JOINED_ROWS
+#define JOINED_ROWS 32
+#endif
+constexpr int kJoinedRows = JOINED_ROWS;  // rows a chunk of blocks_joined_run
 #ifndef AHEAD
 #define AHEAD 8
 #endif
@@ -242,6 +248,115 @@ __attribute__((noinline)) void blocks_rows_run_line(T* a, long nx, long nxy, lon
   }
 }
 
+// Joined rows, as the fluid sweeps its 19 arrays today, carried over to blocks: chunks of R rows
+// swept as one line by aosoa_run (wrong only at the joins, where a row's first cell reads the
+// row before's last and the other way round), with each row's two edge cells redone apart. Per
+// chunk: the edge cells' inputs saved (periodic in x), a row's into lane r mod W of a vector per
+// direction; the line swept; the edge cells collided W rows at a time from the saved inputs and
+// their 19 results written to their own slots. The line's first and last cells also write 5
+// slots outside the chunk each, owned by the edge cells of the rows just before and after it:
+// those are saved first and put back. R a multiple of W.
+template <int R>
+__attribute__((noinline)) void blocks_joined_run(T* a, long nx, long ny, long first_row, long end_row, T omega,
+                                                 T rho0) {
+  const long nxy = nx * ny, nb = nx / W, row_len = nb * BS;
+  const V omega_v(omega), rho0_v(rho0);
+  const V force_v[3] = {V(0.0), V(0.0), V(0.0)};
+  // Slot (array j, cell (x, row r + dr)) at r row_len + at(j, x, dr).
+  auto at = [&](int j, long x, long dr) { return dr * row_len + (x / W) * BS + j * W + x % W; };
+  // Per direction K and edge e (x = 0, nx - 1): its input, array opp(K) at x - c_x, wrapped in
+  // the row, row r - c_y - c_z ny; its result, array K at x + c_x, row r + c_y + c_z ny.
+  long in_at[2][Q], out_at[2][Q];
+  for (int e = 0; e < 2; ++e) for (int k = 0; k < Q; ++k) {
+    const long x = e == 0 ? 0 : nx - 1, dr = cy(k) + cz(k) * ny;
+    in_at[e][k] = at(opp[k], (x - cx(k) + nx) % nx, -dr);
+    out_at[e][k] = at(k, (x + cx(k) + nx) % nx, dr);
+  }
+  alignas(64) T saved[2][Q][R];
+  for (long r0 = first_row; r0 < end_row; r0 += R) {
+    const long r1 = std::min(end_row, r0 + R);
+    // The 10 slots outside the chunk that the line's end cells write (array K at the line's
+    // first cell + off(K) for c_x = -1, at its last + off(K) for c_x = +1).
+    long outside[10];
+    T outside_value[10];
+    int n_outside = 0;
+    for (int k = 0; k < Q; ++k) {
+      const long yz = cy(k) * nx + cz(k) * nxy;
+      long c = -1;
+      if (cx(k) == -1) c = r0 * nx - 1 + yz;
+      if (cx(k) == 1) c = r1 * nx + yz;
+      if (c < 0) continue;
+      outside[n_outside] = (c / W) * BS + k * W + c % W;
+      outside_value[n_outside] = a[outside[n_outside]];
+      ++n_outside;
+    }
+    for (long r = r0; r < r1; ++r) {
+      const T* row = a + r * row_len;
+      for (int e = 0; e < 2; ++e) for (int k = 0; k < Q; ++k) saved[e][k][r - r0] = row[in_at[e][k]];
+    }
+    aosoa_run(a, nx, nxy, r0 * nx, r1 * nx, omega, rho0);
+    for (long g = r0; g < r1; g += W) {
+      for (int e = 0; e < 2; ++e) {
+        V f[Q];
+        each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+          f[K] = V::load_aligned(&saved[e][K][g - r0]);
+        });
+        const auto state = Bgk::template node_state<false>(f, rho0_v, force_v);
+        alignas(64) T result[Q][W];
+        each([&]<int K>(std::integral_constant<int, K>) LBSOLID_FORCE_INLINE_LAMBDA {
+          Bgk::template relaxed<false, K>(f[K], state, omega_v, force_v).store_aligned(result[K]);
+        });
+        for (long r = g; r < std::min(r1, g + W); ++r) {
+          T* row = a + r * row_len;
+          for (int k = 0; k < Q; ++k) row[out_at[e][k]] = result[k][r - g];
+        }
+      }
+    }
+    for (int i = 0; i < n_outside; ++i) a[outside[i]] = outside_value[i];
+  }
+}
+
+// Joined rows without an edge buffer: before a chunk's line is swept, the 5 + 5 slots per row
+// that the line's first and last cells of each row read across the join are moved by one row,
+// so that each finds its own row's wrapped value there; the line then computes every cell
+// right, and the same slots (which now hold the results, a row off) are moved back after.
+// For c_x(K) = +1, cell (0, r)'s input K, S(r) = array opp(K) at (nx - 1, r - dr_K), is read
+// by the line at S(r - 1); for c_x(K) = -1, cell (nx - 1, r)'s, T(r) = array opp(K) at
+// (0, r - dr_K), at T(r + 1). S(r0 - 1) and T(r1), outside the chunk, are saved and put back.
+template <int R>
+__attribute__((noinline)) void blocks_rotated_run(T* a, long nx, long ny, long first_row, long end_row, T omega,
+                                                  T rho0) {
+  const long nxy = nx * ny, nb = nx / W, row_len = nb * BS;
+  long s_at[5], t_at[5];  // S(0) and T(0) per direction
+  int ns = 0, nt = 0;
+  for (int k = 0; k < Q; ++k) {
+    const long dr = cy(k) + cz(k) * ny;
+    if (cx(k) == 1) s_at[ns++] = -dr * row_len + (nb - 1) * BS + opp[k] * W + (W - 1);
+    if (cx(k) == -1) t_at[nt++] = -dr * row_len + opp[k] * W;
+  }
+  for (long r0 = first_row; r0 < end_row; r0 += R) {
+    const long r1 = std::min(end_row, r0 + R);
+    T s_outside[5], t_outside[5];
+    for (int i = 0; i < 5; ++i) {
+      T* s = a + s_at[i];
+      s_outside[i] = s[(r0 - 1) * row_len];
+      for (long r = r0; r < r1; ++r) s[(r - 1) * row_len] = s[r * row_len];
+      T* t = a + t_at[i];
+      t_outside[i] = t[r1 * row_len];
+      for (long r = r1 - 1; r >= r0; --r) t[(r + 1) * row_len] = t[r * row_len];
+    }
+    aosoa_run(a, nx, nxy, r0 * nx, r1 * nx, omega, rho0);
+    for (int i = 0; i < 5; ++i) {
+      T* s = a + s_at[i];
+      for (long r = r1 - 1; r >= r0; --r) s[r * row_len] = s[(r - 1) * row_len];
+      s[(r0 - 1) * row_len] = s_outside[i];
+      T* t = a + t_at[i];
+      for (long r = r0; r < r1; ++r) t[r * row_len] = t[(r + 1) * row_len];
+      t[r1 * row_len] = t_outside[i];
+    }
+  }
+}
+
 // The even (local) step: each cell's own 19 populations, written back reversed (array opp(K)).
 // In 19 arrays: population K of cell c at f[K stride + c]; in blocks: at its block's K W + lane.
 template <bool kBlocks>
@@ -365,23 +480,36 @@ int main(int argc, char** argv) {
     for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) aos[(c / W) * BS + j * W + c % W] = before[j * cells + c];
     blocks_rows_run_line(aos, nx, nxy, first_row, end_row, 1.3, 1.0);
     printf("the same through the line's loop: %ld of %ld slots differ\n", differing(), Q * cells);
+    for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) aos[(c / W) * BS + j * W + c % W] = before[j * cells + c];
+    blocks_joined_run<kJoinedRows>(aos, nx, ny, first_row, end_row, 1.3, 1.0);
+    printf("joined rows, edge cells redone: %ld of %ld slots differ\n", differing(), Q * cells);
+    for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) aos[(c / W) * BS + j * W + c % W] = before[j * cells + c];
+    blocks_rotated_run<kJoinedRows>(aos, nx, ny, first_row, end_row, 1.3, 1.0);
+    printf("joined rows, join slots moved by a row: %ld of %ld slots differ\n", differing(), Q * cells);
     fluid::FluidConfig config;
     config.nx = static_cast<int>(nx); config.ny = static_cast<int>(ny); config.nz = static_cast<int>(nz); config.omega = 1.0;
     fluid::FluidLattice<L, T> lattice(config);
     lattice.run(2);
-    double t[4] = {1e9, 1e9, 1e9, 1e9};
-    for (int r = 0; r < reps; ++r) for (int v = 0; v < 4; ++v) {
+    double t[8] = {1e9, 1e9, 1e9, 1e9, 1e9, 1e9, 1e9, 1e9};
+    for (int r = 0; r < reps; ++r) for (int v = 0; v < 8; ++v) {
       if (v == 2) lattice.step();  // the local step, untimed
       auto t0 = std::chrono::steady_clock::now();
       if (v == 0) blocks_rows_run(aos, nx, nxy, first_row, end_row, 1.0, 1.0);
       else if (v == 1) aosoa_run(aos, nx, nxy, begin, end, 1.0, 1.0);
       else if (v == 2) lattice.step();
-      else blocks_rows_run_line(aos, nx, nxy, first_row, end_row, 1.0, 1.0);
+      else if (v == 3) blocks_rows_run_line(aos, nx, nxy, first_row, end_row, 1.0, 1.0);
+      else if (v == 4) blocks_joined_run<kJoinedRows>(aos, nx, ny, first_row, end_row, 1.0, 1.0);
+      else if (v == 5) lattice.step();  // the fluid's local step
+      else if (v == 6) local_run<true>(aos, stride, begin, end, 1.0, 1.0);
+      else blocks_rotated_run<kJoinedRows>(aos, nx, ny, first_row, end_row, 1.0, 1.0);
       t[v] = std::min(t[v], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      if (v == 5) lattice.step();  // its pulling step, untimed, so that v == 2 times a pulling step again
     }
-    printf("pulling MLUPS: blocks, rows periodic %.1f, through the line's loop %.1f; blocks, one line %.1f; "
-           "the fluid's step (19 arrays, periodic box) %.1f\n", (end - begin) / t[0] / 1e6, (end - begin) / t[3] / 1e6,
-           (end - begin) / t[1] / 1e6, cells / t[2] / 1e6);
+    printf("pulling MLUPS: blocks, rows periodic %.1f, through the line's loop %.1f, joined rows with edges redone "
+           "%.1f, joined rows with the join slots moved %.1f; blocks, one line %.1f; the fluid's step (19 arrays, periodic box) %.1f\n",
+           (end - begin) / t[0] / 1e6, (end - begin) / t[3] / 1e6, (end - begin) / t[4] / 1e6,
+           (end - begin) / t[7] / 1e6, (end - begin) / t[1] / 1e6, cells / t[2] / 1e6);
+    printf("local MLUPS: blocks %.1f, the fluid's step %.1f\n", (end - begin) / t[6] / 1e6, cells / t[5] / 1e6);
   }
   // The sweeps above stepped the blocks alone: the same state in both layouts again.
   for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) aos[(c / W) * BS + j * W + c % W] = soa[j * stride + c];
