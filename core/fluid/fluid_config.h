@@ -2,8 +2,11 @@
 // What a fluid is made of: grid size, relaxation, reference density, a boundary per side and a
 // uniform body force. Plain data; validate_fluid_config() says what is wrong with it, field by field.
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "fluid/population_storage.h"
 
 namespace lbsolid::fluid {
 
@@ -72,6 +75,10 @@ struct FluidConfig {
   StreamingScheme streaming = StreamingScheme::kInPlace;
   CollisionModel collision = CollisionModel::kBgk;
   double trt_magic = 3.0 / 16.0;  // TRT's Lambda: 3/16 puts bounce-back walls exactly half-way (Poiseuille)
+  // How the populations are stored (population_storage.h); unset, the lattice chooses
+  // (FluidLattice::chosen_layout). Blocks need D3Q19, in-place streaming, BGK, every side
+  // periodic and n_x a multiple of 8 (double) or 16 (float). The results are the same bit for bit.
+  std::optional<PopulationLayout> layout;
 };
 
 // Every problem with `config` for a lattice of dimension `dimension`, each as

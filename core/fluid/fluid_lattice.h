@@ -1,7 +1,8 @@
 #pragma once
 // A lattice-Boltzmann fluid on one lattice (D2Q9, D2Q7, D3Q19) in one precision (float, double):
-// structure-of-arrays populations advanced by fused stream-collide kernels, either in place on one
-// buffer (default) or between two buffers. Density and velocity are computed only on request.
+// populations in arrays, or in blocks of cells where that is faster (population_storage.h,
+// chosen_layout()), advanced by fused stream-collide kernels, either in place on one buffer
+// (default) or between two buffers. Density and velocity are computed only on request.
 //
 // State convention: the fluid "at time t" is what the next step pulls (through the same boundary
 // rules as the kernel), so every observer below gathers exactly what the kernel would see, and
@@ -61,6 +62,11 @@ class FluidLattice {
   long cells() const { return cells_; }
   long step_count() const { return steps_; }
   std::size_t bytes_allocated() const { return storage_.bytes(); }
+  PopulationLayout layout() const { return storage_.layout(); }
+  // The layout `config` gets (config.layout, else blocks where the blocked kernels apply and the
+  // CPU has AVX-512, where they were measured faster; else arrays). Throws std::invalid_argument
+  // when config.layout asks for blocks where they do not apply.
+  static PopulationLayout chosen_layout(const FluidConfig& config);
 
   // Equilibrium of the given density and velocity at every node.
   void initialize(const std::function<double(int, int, int)>& density,
@@ -107,6 +113,7 @@ class FluidLattice {
 
  private:
   bool in_place() const { return config_.streaming == StreamingScheme::kInPlace; }
+  bool blocks() const { return storage_.layout() == PopulationLayout::kBlocks; }
   long cell(int x, int y, int z) const { return plans_.cell(x, y, z); }
   // Where population i of node (x, y, z) at time t is stored, and what to add to it.
   struct Slot {
@@ -119,7 +126,11 @@ class FluidLattice {
   // from the node's cell: at time t, to read (with a correction to add), and as the last step
   // wrote it after collision, to inject into.
   // A population is read as stored * scale + correction (a pressure outlet's scale is 0).
+  // offset[i] = storage_.index(array[i], delta[i]) in arrays (a cell then adds its index); in
+  // blocks a slot is worked out from array[i] and the cell + delta[i] (slot_index()).
   struct RowSlots {
+    std::array<int, L::Q> array;
+    std::array<long, L::Q> delta;
     std::array<long, L::Q> offset;
     std::array<T, L::Q> correction;
     std::array<T, L::Q> scale;
@@ -133,6 +144,8 @@ class FluidLattice {
   // Where the last step left each post-collision population, and the scale it was stored with
   // (what is added there must be scaled alike).
   struct InjectionSlots {
+    std::array<int, L::Q> array;
+    std::array<long, L::Q> delta;
     std::array<long, L::Q> offset;
     std::array<T, L::Q> scale;
     bool plain;  // every scale 1
@@ -154,14 +167,21 @@ class FluidLattice {
     const NodeIndex& last = nodes[count - 1];
     return cell(last[0], last[1], last[2]) - cell(first[0], first[1], first[2]) > 2 * count;
   }
+  // Where population i of the node at cell c is, for slots of a known layout.
+  template <bool kBlocks, class Slots>
+  long slot_index(const Slots& slots, int i, long c) const {
+    if constexpr (kBlocks) return storage_.index_in_blocks(slots.array[i], c + slots.delta[i]);
+    else return c + slots.offset[i];
+  }
   // The later node's slots are taken to be this node's (exact within a row part, close
   // elsewhere: a prefetch needs no exact address).
-  void prefetch_node(const T* f, const NodeIndex& node, const std::array<long, L::Q>& offset, bool for_write) const {
+  template <bool kBlocks, class Slots>
+  void prefetch_node(const T* f, const NodeIndex& node, const Slots& slots, bool for_write) const {
     // As an integer: a guessed slot may lie outside the arrays, where a pointer may not point.
     const std::uintptr_t base = reinterpret_cast<std::uintptr_t>(f);
     const long c = cell(node[0], node[1], node[2]);
     for (int i = 0; i < Q; ++i) {
-      const auto* address = reinterpret_cast<const void*>(base + (c + offset[i]) * sizeof(T));
+      const auto* address = reinterpret_cast<const void*>(base + slot_index<kBlocks>(slots, i, c) * sizeof(T));
       if (for_write) __builtin_prefetch(address, 1);
       else __builtin_prefetch(address, 0);
     }
@@ -171,9 +191,14 @@ class FluidLattice {
   DensityMomentum density_momentum_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
   Moments moments_of(const std::array<T, L::Q>& gathered, const RowPlan<T, L::Q>& plan) const;
   // Where the interior nodes of row (y, z) find their populations at time t: population i of
-  // node x is from[i][x] (+ correction[i] unless plain).
+  // node x is from[i][x] (+ correction[i] unless plain); in blocks, at
+  // index_in_blocks(array[i], c0 + delta[i] + x) from f, c0 the row's first cell.
   struct InteriorRow {
     std::array<const T*, L::Q> from{};
+    const T* f = nullptr;
+    long c0 = 0;
+    std::array<int, L::Q> array{};
+    std::array<long, L::Q> delta{};
     std::array<T, L::Q> correction{};
     bool plain = false;
   };
@@ -189,6 +214,14 @@ class FluidLattice {
   // One step's fused kernels with the given collision policy (bgk_collision.h and siblings).
   template <class Collision>
   void launch();
+  // add_momenta and gather_momenta for a known layout.
+  template <bool kBlocks>
+  void add_momenta_in(const NodeIndex* nodes, const double* dp, long count);
+  template <bool kBlocks>
+  void gather_momenta_in(const NodeIndex* nodes, long count, DensityMomentum* out) const;
+  // The step on populations in blocks (blocked_kernel.h).
+  template <bool kForce>
+  void launch_blocks();
 
   FluidConfig config_;
   long cells_;

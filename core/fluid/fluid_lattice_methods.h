@@ -9,8 +9,10 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "fluid/bgk_collision.h"
+#include "fluid/blocked_kernel.h"
 #include "fluid/in_place_kernel.h"
 #include "fluid/kernel_isa.h"
 #include "fluid/regularized_collision.h"
@@ -47,7 +49,7 @@ FluidLattice<L, T>::FluidLattice(const FluidConfig& config, std::shared_ptr<para
       cells_(static_cast<long>(config.nx) * config.ny * config.nz),
       has_force_(any_force(config)),
       plans_(config),
-      storage_(config.streaming == StreamingScheme::kInPlace ? 1 : 2, Q, cells_),
+      storage_(config.streaming == StreamingScheme::kInPlace ? 1 : 2, Q, cells_, chosen_layout(config_)),
       owns_pool_(pool == nullptr),
       pool_(owns_pool_ ? std::make_shared<parallel::ThreadPool>(config_.threads) : std::move(pool)) {
   if (in_place()) check_in_place_slots();
@@ -105,6 +107,33 @@ template <class L, class T>
 FluidLattice<L, T>::~FluidLattice() = default;
 
 template <class L, class T>
+PopulationLayout FluidLattice<L, T>::chosen_layout(const FluidConfig& config) {
+  // Why the blocked kernels do not apply; empty when they do.
+  std::string why;
+  if (!BlockedKernels<L, T>::kLatticeFits) {
+    why = std::string("the ") + L::name + " lattice (D3Q19 only)";
+  } else if (config.streaming != StreamingScheme::kInPlace) {
+    why = "two-buffer streaming (in place only)";
+  } else if (config.collision != CollisionModel::kBgk) {
+    why = std::string(collision_model_name(config.collision)) + " collisions (BGK only)";
+  } else if (std::any_of(config.sides.begin(), config.sides.end(),
+                         [](const SideBoundary& side) { return side.kind != WallKind::kPeriodic; })) {
+    why = "a side that is not periodic (every side must be)";
+  } else if (config.nx % BlockedKernels<L, T>::W != 0) {
+    why = "nx = " + std::to_string(config.nx) + " (a multiple of " + std::to_string(BlockedKernels<L, T>::W) +
+          " in this precision)";
+  }
+  if (config.layout) {
+    if (*config.layout == PopulationLayout::kBlocks && !why.empty())
+      throw std::invalid_argument("layout: blocks do not apply to " + why);
+    return *config.layout;
+  }
+  // Measured faster with 512-bit vectors (a block's line is one vector); with narrower ones each
+  // population takes several registers, which the sweep has not been measured with.
+  return why.empty() && kernel_isa() == KernelIsa::kAvx512 ? PopulationLayout::kBlocks : PopulationLayout::kArrays;
+}
+
+template <class L, class T>
 void FluidLattice<L, T>::set_threads(int threads) {
   if (threads < 1) throw std::invalid_argument("threads: must be at least 1, got " + std::to_string(threads));
   if (owns_pool_) pool_ = std::make_shared<parallel::ThreadPool>(threads);
@@ -121,10 +150,16 @@ FluidRawState FluidLattice<L, T>::raw_state() const {
   state.buffers = in_place() ? 1 : 2;
   state.cells = cells_;
   state.populations.reserve(static_cast<std::size_t>(state.buffers) * Q * cells_);
+  // Population by population whatever the layout: a checkpoint restores into either.
   for (int b = 0; b < state.buffers; ++b)
     for (int i = 0; i < Q; ++i) {
-      const T* f = storage_.buffer(b) + i * storage_.stride();
-      state.populations.insert(state.populations.end(), f, f + cells_);
+      const T* f = storage_.buffer(b);
+      if (!blocks()) {
+        state.populations.insert(state.populations.end(), f + storage_.index_in_arrays(i, 0),
+                                 f + storage_.index_in_arrays(i, cells_));
+      } else {
+        for (long c = 0; c < cells_; ++c) state.populations.push_back(f[storage_.index_in_blocks(i, c)]);
+      }
     }
   return state;
 }
@@ -144,8 +179,8 @@ void FluidLattice<L, T>::restore_raw_state(const FluidRawState& state) {
   std::size_t k = 0;
   for (int b = 0; b < buffers; ++b)
     for (int i = 0; i < Q; ++i) {
-      T* f = storage_.buffer(b) + i * storage_.stride();
-      for (long c = 0; c < cells_; ++c) f[c] = static_cast<T>(state.populations[k++]);
+      T* f = storage_.buffer(b);
+      for (long c = 0; c < cells_; ++c) f[storage_.index(i, c)] = static_cast<T>(state.populations[k++]);
     }
   steps_ = state.steps;
   current_ = state.current;
@@ -173,7 +208,6 @@ void FluidLattice<L, T>::write_equilibrium(const Density& density, const Velocit
   pulled_ = false;  // in place: the state is written as streamed populations
   stepped_ = false;
   T* f = storage_.buffer(in_place() ? 0 : current_);
-  const long stride = storage_.stride();
   const T rho0 = static_cast<T>(config_.rho0);
   auto equilibrium_at = [&](int x, int y, int z, std::array<T, Q>& feq) {
     const T rho = static_cast<T>(density(x, y, z));
@@ -196,7 +230,15 @@ void FluidLattice<L, T>::write_equilibrium(const Density& density, const Velocit
       std::array<T, Q> row_feq;
       for (long row = begin; row < end; ++row) {
         equilibrium_at(0, static_cast<int>(row % config_.ny), static_cast<int>(row / config_.ny), row_feq);
-        for (int i = 0; i < Q; ++i) std::fill_n(f + i * stride + row * config_.nx, config_.nx, row_feq[i]);
+        const long first = row * config_.nx, end = first + config_.nx;
+        for (int i = 0; i < Q; ++i) {
+          if (!blocks()) {
+            std::fill_n(f + storage_.index_in_arrays(i, first), config_.nx, row_feq[i]);
+          } else {
+            constexpr int kW = PopulationStorage<T>::kBlockCells;
+            for (long c = first; c < end; c += kW) std::fill_n(f + storage_.index_in_blocks(i, c), kW, row_feq[i]);
+          }
+        }
       }
     });
   } else {
@@ -204,7 +246,7 @@ void FluidLattice<L, T>::write_equilibrium(const Density& density, const Velocit
       for (int y = 0; y < config_.ny; ++y)
         for (int x = 0; x < config_.nx; ++x) {
           equilibrium_at(x, y, z, feq);
-          for (int i = 0; i < Q; ++i) f[i * stride + cell(x, y, z)] = feq[i];
+          for (int i = 0; i < Q; ++i) f[storage_.index(i, cell(x, y, z))] = feq[i];
         }
   }
   // Then each population where the next step will look for it, so that gathering at time 0
@@ -238,6 +280,13 @@ void FluidLattice<L, T>::launch() {
   const auto& plans = plans_;
   // One kernel per (scheme, phase, force) combination; each of config_.threads row ranges goes
   // to one thread of the pool.
+  if constexpr (std::is_same_v<Collision, BgkCollision<L, T>> && BlockedKernels<L, T>::kLatticeFits) {
+    if (blocks()) {  // chosen_layout() leaves blocks to BGK in place
+      if (has_force_) launch_blocks<true>();
+      else launch_blocks<false>();
+      return;
+    }
+  }
   // Each part of the rows runs the kernel compiled for the CPU's instruction set (kernel_isa.h).
   const KernelIsa isa = kernel_isa();
   auto run_kernel = [&]<bool kForce>(std::bool_constant<kForce>) {
@@ -270,6 +319,69 @@ void FluidLattice<L, T>::launch() {
     run_kernel(std::true_type{});
   } else {
     run_kernel(std::false_type{});
+  }
+}
+
+template <class L, class T>
+template <bool kForce>
+void FluidLattice<L, T>::launch_blocks() {
+  using Blocked = BlockedKernels<L, T>;
+  const T omega = static_cast<T>(config_.omega), rho0 = static_cast<T>(config_.rho0);
+  const long rows = static_cast<long>(config_.ny) * config_.nz;
+  const typename Blocked::Grid grid{config_.nx, config_.ny, config_.nz};
+  const long blocks_per_row = grid.blocks_per_row();
+  const auto& plan_force = plans_.for_row(0).force;  // every side periodic: one force everywhere
+  const T force[3] = {plan_force[0], plan_force[1], plan_force[2]};
+  const KernelIsa isa = kernel_isa();
+  T* f = storage_.buffer(0);
+  if (!pulled_) {
+    pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
+      run_with_isa(isa, [&]() LBSOLID_FORCE_INLINE_LAMBDA {
+        Blocked::template local<kForce>(f, begin * blocks_per_row, end * blocks_per_row, force, omega, rho0);
+      });
+    });
+    return;
+  }
+  auto pull = [&](long first, long end) {
+    run_with_isa(isa, [&]() LBSOLID_FORCE_INLINE_LAMBDA {
+      Blocked::template rows<kForce>(f, grid, first, end, force, omega, rho0);
+    });
+  };
+  // A chunk of rows reads and puts back a few lines beside it (blocked_kernel.h): the lines its
+  // first cell's sources would be in for the row before the chunk, and its last cell's for the
+  // row after. Their slots belong to cells of the plane before the chunk's first row or the one
+  // after its last (the row before, shifted by a source offset and back by the reader's own,
+  // wrapped), so chunks 3 planes apart touch no slot in common; 5 are kept apart here (one
+  // plane each side more than needed, so that no slip in that reasoning can become a race).
+  // The parts are ranges of planes. First every part does its planes but the 2 at each end,
+  // all parts at once (two parts' planes so done are 5 or more apart, across the box's wrap
+  // too); then the 4 planes around each boundary between parts, all boundaries at once where
+  // every part has 9 planes or more (two boundaries' planes then lie 5 or more apart), else
+  // one after another on this thread.
+  const long nz = config_.nz, ny = config_.ny;
+  const long parts = std::min<long>(config_.threads, nz);
+  auto planes_of = [&](long k) { return std::pair<long, long>{nz * k / parts, nz * (k + 1) / parts}; };
+  auto inner = [&](long k) {  // part k's planes but the 2 at each end
+    const auto [begin, end] = planes_of(k);
+    const long inner_begin = std::min(begin + 2, end);
+    return std::pair<long, long>{inner_begin, std::max(end - 2, inner_begin)};
+  };
+  pool_->parallel_for(parts, static_cast<int>(parts), [&](long first, long end) {
+    for (long k = first; k < end; ++k)
+      if (const auto [begin, inner_end] = inner(k); begin < inner_end) pull(begin * ny, inner_end * ny);
+  });
+  // Boundary k: part k's planes after its inner ones and part k + 1's before them (wrapping).
+  auto boundary = [&](long k) {
+    pull(inner(k).second * ny, planes_of(k).second * ny);
+    const long next = (k + 1) % parts;
+    pull(planes_of(next).first * ny, inner(next).first * ny);
+  };
+  if (parts > 1 && nz / parts >= 9) {  // every part 9 planes or more
+    pool_->parallel_for(parts, static_cast<int>(parts), [&](long first, long end) {
+      for (long k = first; k < end; ++k) boundary(k);
+    });
+  } else {
+    for (long k = 0; k < parts; ++k) boundary(k);
   }
 }
 
@@ -315,7 +427,7 @@ void FluidLattice<L, T>::refresh_outlet_corrections() {
           plans_.set_edge_correction(row, part, i, entering);
           // In place before a local step, the node reads its own slots: the last pulling step
           // wrote the rule there as it stood then; it stands here now (two buffers read it now).
-          if (in_place() && !pulled_) storage_.buffer(0)[i * storage_.stride() + cell(part == 0 ? 0 : nx - 1, y, z)] = entering;
+          if (in_place() && !pulled_) storage_.buffer(0)[storage_.index(i, cell(part == 0 ? 0 : nx - 1, y, z))] = entering;
         }
       }
   }
@@ -329,19 +441,18 @@ void FluidLattice<L, T>::run(long steps) {
 template <class L, class T>
 typename FluidLattice<L, T>::Slot FluidLattice<L, T>::slot(int i, int x, int y, int z) const {
   const long c = cell(x, y, z);
-  if (in_place() && !pulled_) return {i * storage_.stride() + c, T(0), T(1)};
+  if (in_place() && !pulled_) return {storage_.index(i, c), T(0), T(1)};
   const auto& s = plans_.sources(x, y, z)[i];
   // Two buffers keep f*_j at slot j of the source node; in place the even step left it reversed.
   const int stored_as = in_place() ? lattice::opposite<L>(s.dir) : s.dir;
-  return {stored_as * storage_.stride() + c + s.delta, s.correction, s.scale};
+  return {storage_.index(stored_as, c + s.delta), s.correction, s.scale};
 }
 
 template <class L, class T>
 typename FluidLattice<L, T>::InjectionSlots FluidLattice<L, T>::injection_slots(const PullSources<T, L::Q>& sources) const {
-  const long stride = storage_.stride();
   constexpr auto opp = lattice::opposite_table<L>();
   InjectionSlots slots;
-  auto& offset = slots.offset;
+  slots.delta.fill(0);
   slots.scale.fill(T(1));
   slots.plain = true;
   for (int i = 0; i < Q; ++i) {
@@ -349,15 +460,17 @@ typename FluidLattice<L, T>::InjectionSlots FluidLattice<L, T>::injection_slots(
     // written holds it at i (two buffers); an even in-place step wrote it reversed, locally; an
     // odd one wrote it into the slot it had read population opp(i) from.
     if (!in_place()) {
-      offset[i] = i * stride;
+      slots.array[i] = i;
     } else if (pulled_) {
-      offset[i] = opp[i] * stride;
+      slots.array[i] = opp[i];
     } else {
       const auto& s = sources[opp[i]];
-      offset[i] = opp[s.dir] * stride + s.delta;
+      slots.array[i] = opp[s.dir];
+      slots.delta[i] = s.delta;
       slots.scale[i] = s.scale;
       slots.plain = slots.plain && s.scale == T(1);
     }
+    slots.offset[i] = storage_.index_in_arrays(slots.array[i], slots.delta[i]);
   }
   return slots;
 }
@@ -373,6 +486,13 @@ void FluidLattice<L, T>::add_momentum(int x, int y, int z, const Vec3& dp) {
 template <class L, class T>
 void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const double* dp, long count) {
   if (!stepped_) throw std::logic_error("add_momentum: no step has produced post-collision populations yet");
+  if (blocks()) add_momenta_in<true>(nodes, dp, count);
+  else add_momenta_in<false>(nodes, dp, count);
+}
+
+template <class L, class T>
+template <bool kBlocks>
+void FluidLattice<L, T>::add_momenta_in(const NodeIndex* nodes, const double* dp, long count) {
   T* f = storage_.buffer(in_place() ? 0 : current_);
   const bool prefetch = worth_prefetching(nodes, count);
   long row_part = -1;  // of the slots below
@@ -389,8 +509,8 @@ void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const double* dp, l
       }
       row_part = 3 * row + part;
     }
-    if (prefetch && k + kPrefetchAhead < count) prefetch_node(f, nodes[k + kPrefetchAhead], slots.offset, /*for_write=*/true);
-    T* at = f + cell(x, y, z);
+    if (prefetch && k + kPrefetchAhead < count) prefetch_node<kBlocks>(f, nodes[k + kPrefetchAhead], slots, /*for_write=*/true);
+    const long c = cell(x, y, z);
     // Direction by direction at compile time, a pair of opposite directions at a time: c_j = -c_i
     // and w_j = w_i, so j's term is exactly the negation of i's (rounding is symmetric), and the
     // division by c_s^2 (not a power of two on D3Q19) is paid once a pair. Zero velocity
@@ -407,12 +527,14 @@ void FluidLattice<L, T>::add_momenta(const NodeIndex* nodes, const double* dp, l
           c_dot_dp = lattice::add_c<L, I, 1>(c_dot_dp, dp[D * k + 1]);
           if constexpr (D == 3) c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[D * k + 2]);
           const double term = L::w[I] * c_dot_dp / L::cs2;
+          T& to_i = f[slot_index<kBlocks>(slots, I, c)];
+          T& to_j = f[slot_index<kBlocks>(slots, J, c)];
           if (slots.plain) {  // x * 1 is x
-            at[slots.offset[I]] += static_cast<T>(term);
-            at[slots.offset[J]] += static_cast<T>(-term);
+            to_i += static_cast<T>(term);
+            to_j += static_cast<T>(-term);
           } else {
-            at[slots.offset[I]] += static_cast<T>(term) * slots.scale[I];
-            at[slots.offset[J]] += static_cast<T>(-term) * slots.scale[J];
+            to_i += static_cast<T>(term) * slots.scale[I];
+            to_j += static_cast<T>(-term) * slots.scale[J];
           }
         }
       }(), ...);
@@ -429,37 +551,46 @@ std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
 template <class L, class T>
 typename FluidLattice<L, T>::RowSlots FluidLattice<L, T>::read_slots(const PullSources<T, L::Q>& sources) const {
   // slot() for every direction.
-  const long stride = storage_.stride();
   RowSlots slots{};
   slots.scale.fill(T(1));
   slots.plain = true;
-  if (in_place() && !pulled_) {
-    for (int i = 0; i < Q; ++i) slots.offset[i] = i * stride;
-    return slots;
-  }
   constexpr auto opp = lattice::opposite_table<L>();
   for (int i = 0; i < Q; ++i) {
-    const auto& s = sources[i];
-    const int stored_as = in_place() ? opp[s.dir] : s.dir;
-    slots.offset[i] = stored_as * stride + s.delta;
-    slots.correction[i] = s.correction;
-    slots.scale[i] = s.scale;
-    slots.plain = slots.plain && s.correction == T(0) && s.scale == T(1);
+    if (in_place() && !pulled_) {
+      slots.array[i] = i;
+      slots.delta[i] = 0;
+    } else {
+      const auto& s = sources[i];
+      slots.array[i] = in_place() ? opp[s.dir] : s.dir;
+      slots.delta[i] = s.delta;
+      slots.correction[i] = s.correction;
+      slots.scale[i] = s.scale;
+      slots.plain = slots.plain && s.correction == T(0) && s.scale == T(1);
+    }
+    slots.offset[i] = storage_.index_in_arrays(slots.array[i], slots.delta[i]);
   }
   return slots;
 }
 
 template <class L, class T>
 std::array<T, L::Q> FluidLattice<L, T>::gather_at(const PullSources<T, L::Q>& sources, long c) const {
-  const T* f = storage_.buffer(in_place() ? 0 : current_) + c;
+  const T* f = storage_.buffer(in_place() ? 0 : current_);
   const RowSlots slots = read_slots(sources);
   std::array<T, Q> g;
-  for (int i = 0; i < Q; ++i) g[i] = f[slots.offset[i]] * slots.scale[i] + slots.correction[i];
+  for (int i = 0; i < Q; ++i)
+    g[i] = f[storage_.index(slots.array[i], c + slots.delta[i])] * slots.scale[i] + slots.correction[i];
   return g;
 }
 
 template <class L, class T>
 void FluidLattice<L, T>::gather_momenta(const NodeIndex* nodes, long count, DensityMomentum* out) const {
+  if (blocks()) gather_momenta_in<true>(nodes, count, out);
+  else gather_momenta_in<false>(nodes, count, out);
+}
+
+template <class L, class T>
+template <bool kBlocks>
+void FluidLattice<L, T>::gather_momenta_in(const NodeIndex* nodes, long count, DensityMomentum* out) const {
   const T* f = storage_.buffer(in_place() ? 0 : current_);
   const bool prefetch = worth_prefetching(nodes, count);
   long row_part = -1;  // of the plan and slots below
@@ -478,16 +609,16 @@ void FluidLattice<L, T>::gather_momenta(const NodeIndex* nodes, long count, Dens
       }
       row_part = 3 * row + part;
     }
-    if (prefetch && k + kPrefetchAhead < count) prefetch_node(f, nodes[k + kPrefetchAhead], slots.offset, /*for_write=*/false);
-    const T* at = f + cell(x, y, z);
+    if (prefetch && k + kPrefetchAhead < count) prefetch_node<kBlocks>(f, nodes[k + kPrefetchAhead], slots, /*for_write=*/false);
+    const long c = cell(x, y, z);
     std::array<T, Q> g;
     // A plain part (no wall rule: scale 1, correction 0) reads the stored values as they are:
     // the sums below come out the same bit for bit (x * 1 + 0 only turns -0 into +0, and sums
     // that start from +0 never differ by the sign of a zero they add).
     if (slots.plain)
-      for (int i = 0; i < Q; ++i) g[i] = at[slots.offset[i]];
+      for (int i = 0; i < Q; ++i) g[i] = f[slot_index<kBlocks>(slots, i, c)];
     else
-      for (int i = 0; i < Q; ++i) g[i] = at[slots.offset[i]] * slots.scale[i] + slots.correction[i];
+      for (int i = 0; i < Q; ++i) g[i] = f[slot_index<kBlocks>(slots, i, c)] * slots.scale[i] + slots.correction[i];
     out[k] = density_momentum_of(g, *plan);
   }
 }
@@ -536,14 +667,16 @@ typename FluidLattice<L, T>::InteriorRow FluidLattice<L, T>::interior_row(int y,
   const auto& plan = plans_.for_row(y, z);
   const long c0 = cell(0, y, z);
   const T* f = storage_.buffer(in_place() ? 0 : current_);
-  const long stride = storage_.stride();
   constexpr auto opp = lattice::opposite_table<L>();
   InteriorRow row;
   row.plain = in_place() && !pulled_;
+  row.f = f;
+  row.c0 = c0;
   for (int i = 0; i < Q; ++i) {
     const auto& source = plan.sources[1][i];
-    row.from[i] = row.plain ? f + i * stride + c0
-                            : f + (in_place() ? opp[source.dir] : source.dir) * stride + c0 + source.delta;
+    row.array[i] = row.plain ? i : (in_place() ? opp[source.dir] : source.dir);
+    row.delta[i] = row.plain ? 0 : source.delta;
+    if (!blocks()) row.from[i] = f + storage_.index_in_arrays(row.array[i], c0 + row.delta[i]);
     if (!row.plain) row.correction[i] = source.correction;
   }
   return row;
@@ -575,19 +708,24 @@ void FluidLattice<L, T>::for_each_interior_block(int y, int z, int first, int en
     }(std::make_integer_sequence<int, Q>{});
     visit(x, n, drho, j);
   };
-  const auto stored = [&](int i, int x) { return row.from[i][x]; };
-  const auto corrected = [&](int i, int x) { return row.from[i][x] + row.correction[i]; };
-  for (int x = first; x < end; x += kMomentBlock) {
-    const int n = std::min(kMomentBlock, end - x);
-    if (n == kMomentBlock) {  // a constant count: the block's loops unroll
-      if (row.plain) sums(x, kMomentBlock, stored);
-      else sums(x, kMomentBlock, corrected);
-    } else if (row.plain) {
-      sums(x, n, stored);
-    } else {
-      sums(x, n, corrected);
+  const auto sweep = [&](const auto& stored) {
+    const auto corrected = [&](int i, int x) { return stored(i, x) + row.correction[i]; };
+    for (int x = first; x < end; x += kMomentBlock) {
+      const int n = std::min(kMomentBlock, end - x);
+      if (n == kMomentBlock) {  // a constant count: the block's loops unroll
+        if (row.plain) sums(x, kMomentBlock, stored);
+        else sums(x, kMomentBlock, corrected);
+      } else if (row.plain) {
+        sums(x, n, stored);
+      } else {
+        sums(x, n, corrected);
+      }
     }
-  }
+  };
+  if (blocks())
+    sweep([&](int i, int x) { return row.f[storage_.index_in_blocks(row.array[i], row.c0 + row.delta[i] + x)]; });
+  else
+    sweep([&](int i, int x) { return row.from[i][x]; });
 }
 
 // A profile of a 192 x 96 D2Q9 session took about two steps node by node (out-of-line

@@ -1,6 +1,12 @@
 #pragma once
-// One or two structure-of-arrays buffers of Q populations per cell, 64-byte aligned, with each
-// population's array padded so that successive arrays start on different cache sets.
+// One or two buffers of Q populations per cell, 64-byte aligned, in one of two layouts:
+// - arrays: Q arrays of cells (structure of arrays), each padded so that successive arrays
+//   start on different cache sets;
+// - blocks: the cells in blocks of W = 64 / sizeof(T) (one cache line of one population), a
+//   block's Q lines side by side: population i of cell c at (c / W) Q W + i W + c mod W. The
+//   D3Q19 in-place kernels run faster on it (blocked_kernel.h); the cell count must be a
+//   multiple of W, and one block of margin lies before and after the cells (the pulling step's
+//   first and last rows read one slot there, and put it back).
 //
 // Without the padding, a cell count times sizeof(real) that is a multiple of a large power of two
 // (96^3 doubles, 2^21 floats, ...) puts all 2Q arrays on the same cache sets, and the kernel
@@ -13,11 +19,16 @@
 
 namespace lbsolid::fluid {
 
+enum class PopulationLayout { kArrays, kBlocks };
+
 template <class T>
 class PopulationStorage {
  public:
-  PopulationStorage(int buffers, int q, long cells)
-      : buffers_(buffers), q_(q), stride_(padded_stride(cells)) {
+  static constexpr int kBlockCells = 64 / static_cast<int>(sizeof(T));  // W
+
+  PopulationStorage(int buffers, int q, long cells, PopulationLayout layout = PopulationLayout::kArrays)
+      : buffers_(buffers), q_(q), blocks_(layout == PopulationLayout::kBlocks),
+        stride_(blocks_ ? cells + 2 * kBlockCells : padded_stride(cells)) {
     // Zeroed by calloc: a large block comes as fresh pages that are zero already, so the cells are
     // first written (and the pages faulted in) by the lattice's initialization, not by a memset
     // before it (a quarter of building a 192^3 D3Q19 lattice). aligned_alloc has no zeroing form:
@@ -28,11 +39,19 @@ class PopulationStorage {
     data_ = reinterpret_cast<T*>((address + kAlign - 1) / kAlign * kAlign);
   }
 
-  // Distance in elements between population i and i+1 of one buffer.
+  PopulationLayout layout() const { return blocks_ ? PopulationLayout::kBlocks : PopulationLayout::kArrays; }
+  // Arrays: the distance in elements between population i and i+1 of one buffer.
   long stride() const { return stride_; }
+  // Where population i of `cell` lies in a buffer; the two below for code that knows the layout.
+  long index(int i, long cell) const { return blocks_ ? index_in_blocks(i, cell) : index_in_arrays(i, cell); }
+  long index_in_arrays(int i, long cell) const { return i * stride_ + cell; }
+  long index_in_blocks(int i, long cell) const {
+    return (cell / kBlockCells) * q_ * kBlockCells + i * kBlockCells + cell % kBlockCells;
+  }
   std::size_t bytes() const { return static_cast<std::size_t>(buffers_) * q_ * stride_ * sizeof(T); }
-  T* buffer(int which) { return data_ + static_cast<std::size_t>(which) * q_ * stride_; }
-  const T* buffer(int which) const { return data_ + static_cast<std::size_t>(which) * q_ * stride_; }
+  // The buffer's cell 0 (blocks: after the margin).
+  T* buffer(int which) { return data_ + static_cast<std::size_t>(which) * q_ * stride_ + margin(); }
+  const T* buffer(int which) const { return data_ + static_cast<std::size_t>(which) * q_ * stride_ + margin(); }
 
  private:
   static constexpr std::size_t kAlign = 64;
@@ -43,12 +62,14 @@ class PopulationStorage {
     const long lines = 17 * 64 / static_cast<long>(sizeof(T));
     return (cells + per_64k - 1) / per_64k * per_64k + lines;
   }
+  long margin() const { return blocks_ ? static_cast<long>(q_) * kBlockCells : 0; }
   struct Free {
     void operator()(void* p) const { std::free(p); }
   };
   int buffers_;
   int q_;
-  long stride_;
+  bool blocks_;
+  long stride_;  // blocks: a buffer's length in elements over q_
   std::unique_ptr<void, Free> block_;
   T* data_ = nullptr;  // block_'s first 64-byte boundary
 };

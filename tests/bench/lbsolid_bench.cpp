@@ -33,6 +33,7 @@ namespace {
 
 struct Row {
   std::string lattice, precision, streaming, collision = "bgk";
+  std::string layout;  // how the populations are stored (FluidLattice::chosen_layout)
   int threads;
   long cells;
   double mlups, bytes_per_update, bandwidth, roofline;
@@ -90,8 +91,8 @@ Row measure(std::size_t working_set, int threads, fluid::StreamingScheme streami
   }
   return {L::name, sizeof(T) == 8 ? "double" : "float",
           streaming == fluid::StreamingScheme::kInPlace ? "in-place" : "two-buffer",
-          fluid::collision_model_name(collision), threads, fluid.cells(), mlups,
-          bytes_per_update, 0, 0};  // bandwidth and roofline are filled in by the caller
+          fluid::collision_model_name(collision), fluid.layout() == fluid::PopulationLayout::kBlocks ? "blocks" : "arrays",
+          threads, fluid.cells(), mlups, bytes_per_update, 0, 0};  // bandwidth and roofline: filled in by the caller
 }
 
 }  // namespace
@@ -178,10 +179,12 @@ int main(int argc, char** argv) {
                 fluid::kernel_isa_name(fluid::kernel_isa()), llc, working_set);
     for (std::size_t k = 0; k < rows.size(); ++k) {
       const Row& r = rows[k];
-      std::printf("    {\"lattice\": \"%s\", \"precision\": \"%s\", \"streaming\": \"%s\", \"threads\": %d, \"cells\": %ld, "
+      std::printf("    {\"lattice\": \"%s\", \"precision\": \"%s\", \"streaming\": \"%s\", \"layout\": \"%s\", "
+                  "\"threads\": %d, \"cells\": %ld, "
                   "\"mlups\": %.2f, \"bytes_per_update\": %.0f, \"stream_bandwidth_gbs\": %.2f, "
                   "\"roofline_mlups\": %.2f, \"fraction_of_roofline\": %.3f}%s\n",
-                  r.lattice.c_str(), r.precision.c_str(), r.streaming.c_str(), r.threads, r.cells, r.mlups, r.bytes_per_update,
+                  r.lattice.c_str(), r.precision.c_str(), r.streaming.c_str(), r.layout.c_str(), r.threads, r.cells, r.mlups,
+                  r.bytes_per_update,
                   r.bandwidth / 1e9, r.roofline, r.mlups / r.roofline, k + 1 < rows.size() ? "," : "");
     }
     std::printf("  ],\n  \"collision_results\": [\n");
@@ -204,11 +207,12 @@ int main(int argc, char** argv) {
   std::printf("lbsolid-bench: fused BGK stream-collide, periodic box, in-place (AA) and two-buffer streaming\n");
   std::printf("last-level cache %.0f MiB; working set %.0f MiB per run; kernels for %s\n\n", llc / 1048576.0,
               working_set / 1048576.0, fluid::kernel_isa_name(fluid::kernel_isa()));
-  std::printf("%-6s %-7s %-10s %7s %10s %9s %11s %12s %14s %9s\n", "lattice", "prec", "streaming", "threads", "cells", "MLUPS",
-              "bytes/cell", "stream GB/s", "roofline MLUPS", "fraction");
+  std::printf("%-6s %-7s %-10s %-6s %7s %10s %9s %11s %12s %14s %9s\n", "lattice", "prec", "streaming", "layout", "threads",
+              "cells", "MLUPS", "bytes/cell", "stream GB/s", "roofline MLUPS", "fraction");
   for (const Row& r : rows) {
-    std::printf("%-6s %-7s %-10s %7d %10ld %9.1f %11.0f %12.1f %14.1f %8.0f%%\n", r.lattice.c_str(),
-                r.precision.c_str(), r.streaming.c_str(), r.threads, r.cells, r.mlups, r.bytes_per_update, r.bandwidth / 1e9,
+    std::printf("%-6s %-7s %-10s %-6s %7d %10ld %9.1f %11.0f %12.1f %14.1f %8.0f%%\n", r.lattice.c_str(),
+                r.precision.c_str(), r.streaming.c_str(), r.layout.c_str(), r.threads, r.cells, r.mlups, r.bytes_per_update,
+                r.bandwidth / 1e9,
                 r.roofline, 100.0 * r.mlups / r.roofline);
   }
   for (const Row& r : rows) {
