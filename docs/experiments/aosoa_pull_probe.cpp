@@ -1,4 +1,5 @@
-// A measurement, not part of the build: the in-place D3Q19 pulling sweep (the odd step of the
+// A measurement, not part of the build (the version it led to, joined rows with the join slots
+// moved by a row, is the fluid's own since: core/fluid/blocked_kernel.h): the in-place D3Q19 pulling sweep (the odd step of the
 // AA pattern, BGK, no force) and the local (even) sweep over one long line of a box's interior,
 // in today's layout (19 arrays of cells; the pulling sweep is ShiftedPull::run as the fluid
 // uses it, the local one a plain loop here, slower than the fluid's) and in blocks of W cells
@@ -65,14 +66,13 @@ template <class F> LBSOLID_FORCE_INLINE void each(F&& body) {
       std::make_integer_sequence<int, Q>{});
 }
 
-// The sweep in blocks: population K of cell c is read from array opp(K) at cell c - off(K).
-__attribute__((noinline)) void aosoa_run(T* a, long nx, long nxy, long begin, long end, T omega, T rho0) {
+// The sweep in blocks: population K of cell c is read from array opp(K) at cell c - off(K);
+// o[m]: the element offset from a cell's block to the block of its source cell for the (c_y,
+// c_z) combination m (a multiple of BS: the y and z shifts move whole blocks).
+__attribute__((noinline)) void aosoa_run_offsets(T* a, const long (&o)[9], long begin, long end, T omega, T rho0) {
   const T force[3] = {0, 0, 0};
   const V force_v[3] = {V(force[0]), V(force[1]), V(force[2])};
   const V omega_v(omega), rho0_v(rho0);
-  // Element offset of the block holding cell c - (cy n_x + cz n_xy), per combo (a multiple of W).
-  long o[9];
-  for (int m = 0; m < 9; ++m) o[m] = -((m / 3 - 1) * nx + (m % 3 - 1) * nxy) / W * BS;
   V last[Q];
   T* p0 = a + (begin / W) * BS;
   // f*_K is written into the slot read for opp(K): array K at cell c + off(K). As in
@@ -121,6 +121,13 @@ __attribute__((noinline)) void aosoa_run(T* a, long nx, long nxy, long begin, lo
       fluid::lanes_from<1>(last[K], fluid::lanes_from<W - 1>(cur, cur)).store_aligned(blk - BS);
     }
   });
+}
+
+// The same with the flat offsets of an interior row (cell c - (c_y n_x + c_z n_xy)).
+void aosoa_run(T* a, long nx, long nxy, long begin, long end, T omega, T rho0) {
+  long o[9];
+  for (int m = 0; m < 9; ++m) o[m] = -((m / 3 - 1) * nx + (m % 3 - 1) * nxy) / W * BS;
+  aosoa_run_offsets(a, o, begin, end, omega, rho0);
 }
 
 // Block p's results in f: its inputs from the blocks of the 9 row offsets o, the x-shifted
@@ -323,37 +330,69 @@ __attribute__((noinline)) void blocks_joined_run(T* a, long nx, long ny, long fi
 // For c_x(K) = +1, cell (0, r)'s input K, S(r) = array opp(K) at (nx - 1, r - dr_K), is read
 // by the line at S(r - 1); for c_x(K) = -1, cell (nx - 1, r)'s, T(r) = array opp(K) at
 // (0, r - dr_K), at T(r + 1). S(r0 - 1) and T(r1), outside the chunk, are saved and put back.
+// One chunk of rows [r0, r1) whose cells share the source offsets o (aosoa_run_offsets): the
+// join slots moved, the line swept, the slots moved back. S(r) = r row_len + o[combo(K)] + the
+// slot of cell (nx - 1) in array opp(K); T(r) the same at cell 0.
+void rotated_chunk(T* a, const long (&o)[9], long nb, long r0, long r1, T omega, T rho0) {
+  const long row_len = nb * BS;
+  long s_at[5], t_at[5];
+  int ns = 0, nt = 0;
+  for (int k = 0; k < Q; ++k) {
+    if (cx(k) == 1) s_at[ns++] = o[combo(k)] + (nb - 1) * BS + opp[k] * W + (W - 1);
+    if (cx(k) == -1) t_at[nt++] = o[combo(k)] + opp[k] * W;
+  }
+  T s_outside[5], t_outside[5];
+  for (int i = 0; i < 5; ++i) {
+    T* s = a + s_at[i];
+    s_outside[i] = s[(r0 - 1) * row_len];
+    for (long r = r0; r < r1; ++r) s[(r - 1) * row_len] = s[r * row_len];
+    T* t = a + t_at[i];
+    t_outside[i] = t[r1 * row_len];
+    for (long r = r1 - 1; r >= r0; --r) t[(r + 1) * row_len] = t[r * row_len];
+  }
+  aosoa_run_offsets(a, o, r0 * nb * W, r1 * nb * W, omega, rho0);
+  for (int i = 0; i < 5; ++i) {
+    T* s = a + s_at[i];
+    for (long r = r1 - 1; r >= r0; --r) s[r * row_len] = s[(r - 1) * row_len];
+    s[(r0 - 1) * row_len] = s_outside[i];
+    T* t = a + t_at[i];
+    for (long r = r0; r < r1; ++r) t[r * row_len] = t[(r + 1) * row_len];
+    t[r1 * row_len] = t_outside[i];
+  }
+}
+
+// Chunks of R interior rows (flat y and z offsets) through rotated_chunk.
 template <int R>
 __attribute__((noinline)) void blocks_rotated_run(T* a, long nx, long ny, long first_row, long end_row, T omega,
                                                   T rho0) {
-  const long nxy = nx * ny, nb = nx / W, row_len = nb * BS;
-  long s_at[5], t_at[5];  // S(0) and T(0) per direction
-  int ns = 0, nt = 0;
-  for (int k = 0; k < Q; ++k) {
-    const long dr = cy(k) + cz(k) * ny;
-    if (cx(k) == 1) s_at[ns++] = -dr * row_len + (nb - 1) * BS + opp[k] * W + (W - 1);
-    if (cx(k) == -1) t_at[nt++] = -dr * row_len + opp[k] * W;
-  }
-  for (long r0 = first_row; r0 < end_row; r0 += R) {
-    const long r1 = std::min(end_row, r0 + R);
-    T s_outside[5], t_outside[5];
-    for (int i = 0; i < 5; ++i) {
-      T* s = a + s_at[i];
-      s_outside[i] = s[(r0 - 1) * row_len];
-      for (long r = r0; r < r1; ++r) s[(r - 1) * row_len] = s[r * row_len];
-      T* t = a + t_at[i];
-      t_outside[i] = t[r1 * row_len];
-      for (long r = r1 - 1; r >= r0; --r) t[(r + 1) * row_len] = t[r * row_len];
+  const long nxy = nx * ny;
+  long o[9];
+  for (int m = 0; m < 9; ++m) o[m] = -((m / 3 - 1) * nx + (m % 3 - 1) * nxy) / W * BS;
+  for (long r0 = first_row; r0 < end_row; r0 += R) rotated_chunk(a, o, nx / W, r0, std::min(end_row, r0 + R), omega, rho0);
+}
+
+// The whole pulling step of a box periodic in x, y and z: each plane's rows y = 1 .. ny - 2 in
+// chunks of up to R rows, rows 0 and ny - 1 alone (their y sources wrap), each with the source
+// offsets of its (y, z) class.
+template <int R>
+__attribute__((noinline)) void blocks_box_pull(T* a, long nx, long ny, long nz, T omega, T rho0) {
+  const long nb = nx / W;
+  auto offsets = [&](long y, long z, long (&o)[9]) {
+    for (int m = 0; m < 9; ++m) {
+      const long dy = m / 3 - 1, dz = m % 3 - 1;  // the source is at y - dy, z - dz, wrapped
+      const long ys = (y - dy + ny) % ny, zs = (z - dz + nz) % nz;
+      o[m] = ((ys - y) + (zs - z) * ny) * nb * BS;
     }
-    aosoa_run(a, nx, nxy, r0 * nx, r1 * nx, omega, rho0);
-    for (int i = 0; i < 5; ++i) {
-      T* s = a + s_at[i];
-      for (long r = r1 - 1; r >= r0; --r) s[r * row_len] = s[(r - 1) * row_len];
-      s[(r0 - 1) * row_len] = s_outside[i];
-      T* t = a + t_at[i];
-      for (long r = r0; r < r1; ++r) t[r * row_len] = t[(r + 1) * row_len];
-      t[r1 * row_len] = t_outside[i];
-    }
+  };
+  for (long z = 0; z < nz; ++z) {
+    long o[9];
+    const long plane = z * ny;
+    offsets(0, z, o);
+    rotated_chunk(a, o, nb, plane, plane + 1, omega, rho0);
+    offsets(1, z, o);
+    for (long y = 1; y < ny - 1; y += R) rotated_chunk(a, o, nb, plane + y, plane + std::min(ny - 1, y + R), omega, rho0);
+    offsets(ny - 1, z, o);
+    rotated_chunk(a, o, nb, plane + ny - 1, plane + ny, omega, rho0);
   }
 }
 
@@ -413,8 +452,10 @@ int main(int argc, char** argv) {
   fluid::PopulationStorage<T> storage(1, Q, cells);
   const long stride = storage.stride();
   T* soa = storage.buffer(0);
-  std::vector<T> aos_buf(Q * cells + 64);
-  T* aos = reinterpret_cast<T*>((reinterpret_cast<uintptr_t>(aos_buf.data()) + 63) & ~uintptr_t(63));
+  // A block of margin at each end: a box's first row reads (and its rotation moves) a slot of
+  // the block before it, and its last the block after.
+  std::vector<T> aos_buf(Q * cells + 2 * BS + 64);
+  T* aos = reinterpret_cast<T*>((reinterpret_cast<uintptr_t>(aos_buf.data()) + 63) & ~uintptr_t(63)) + BS;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<T> u(0.9 / 19, 1.1 / 19);
   for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) {
@@ -486,12 +527,29 @@ int main(int argc, char** argv) {
     for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) aos[(c / W) * BS + j * W + c % W] = before[j * cells + c];
     blocks_rotated_run<kJoinedRows>(aos, nx, ny, first_row, end_row, 1.3, 1.0);
     printf("joined rows, join slots moved by a row: %ld of %ld slots differ\n", differing(), Q * cells);
+    // The whole box periodic in x, y and z, against a scalar reference with every side wrapped.
+    for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) aos[(c / W) * BS + j * W + c % W] = before[j * cells + c];
+    ref = before;
+    auto wrapped = [&](long c, int sx, int sy, int sz) {
+      const long x = c % nx, y = c / nx % ny, z = c / nxy;
+      return (x + sx + nx) % nx + (y + sy + ny) % ny * nx + (z + sz + nz) % nz * nxy;
+    };
+    for (long c = 0; c < cells; ++c) {
+      T fin[Q];
+      for (int k = 0; k < Q; ++k) fin[k] = before[opp[k] * cells + wrapped(c, -cx(k), -cy(k), -cz(k))];
+      const auto st = Scalar::template node_state<false>(fin, T(1.0), force);
+      [&]<int... K>(std::integer_sequence<int, K...>) {
+        ((ref[K * cells + wrapped(c, cx(K), cy(K), cz(K))] = Scalar::template relaxed<false, K>(fin[K], st, T(1.3), force)), ...);
+      }(std::make_integer_sequence<int, Q>{});
+    }
+    blocks_box_pull<kJoinedRows>(aos, nx, ny, nz, 1.3, 1.0);
+    printf("the whole periodic box, join slots moved: %ld of %ld slots differ\n", differing(), Q * cells);
     fluid::FluidConfig config;
     config.nx = static_cast<int>(nx); config.ny = static_cast<int>(ny); config.nz = static_cast<int>(nz); config.omega = 1.0;
     fluid::FluidLattice<L, T> lattice(config);
     lattice.run(2);
-    double t[8] = {1e9, 1e9, 1e9, 1e9, 1e9, 1e9, 1e9, 1e9};
-    for (int r = 0; r < reps; ++r) for (int v = 0; v < 8; ++v) {
+    double t[9] = {1e9, 1e9, 1e9, 1e9, 1e9, 1e9, 1e9, 1e9, 1e9};
+    for (int r = 0; r < reps; ++r) for (int v = 0; v < 9; ++v) {
       if (v == 2) lattice.step();  // the local step, untimed
       auto t0 = std::chrono::steady_clock::now();
       if (v == 0) blocks_rows_run(aos, nx, nxy, first_row, end_row, 1.0, 1.0);
@@ -501,7 +559,8 @@ int main(int argc, char** argv) {
       else if (v == 4) blocks_joined_run<kJoinedRows>(aos, nx, ny, first_row, end_row, 1.0, 1.0);
       else if (v == 5) lattice.step();  // the fluid's local step
       else if (v == 6) local_run<true>(aos, stride, begin, end, 1.0, 1.0);
-      else blocks_rotated_run<kJoinedRows>(aos, nx, ny, first_row, end_row, 1.0, 1.0);
+      else if (v == 7) blocks_rotated_run<kJoinedRows>(aos, nx, ny, first_row, end_row, 1.0, 1.0);
+      else blocks_box_pull<kJoinedRows>(aos, nx, ny, nz, 1.0, 1.0);
       t[v] = std::min(t[v], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       if (v == 5) lattice.step();  // its pulling step, untimed, so that v == 2 times a pulling step again
     }
@@ -510,6 +569,8 @@ int main(int argc, char** argv) {
            (end - begin) / t[0] / 1e6, (end - begin) / t[3] / 1e6, (end - begin) / t[4] / 1e6,
            (end - begin) / t[7] / 1e6, (end - begin) / t[1] / 1e6, cells / t[2] / 1e6);
     printf("local MLUPS: blocks %.1f, the fluid's step %.1f\n", (end - begin) / t[6] / 1e6, cells / t[5] / 1e6);
+    printf("whole periodic box, pulling MLUPS: blocks, join slots moved %.1f; the fluid's step %.1f\n",
+           cells / t[8] / 1e6, cells / t[2] / 1e6);
   }
   // The sweeps above stepped the blocks alone: the same state in both layouts again.
   for (int j = 0; j < Q; ++j) for (long c = 0; c < cells; ++c) aos[(c / W) * BS + j * W + c % W] = soa[j * stride + c];
