@@ -47,17 +47,6 @@ void start(FluidLattice<D3Q19, T>& fluid) {
                    });
 }
 
-template <class T>
-std::vector<double> all_populations(const FluidLattice<D3Q19, T>& fluid) {
-  const auto& c = fluid.config();
-  std::vector<double> all;
-  for (int z = 0; z < c.nz; ++z)
-    for (int y = 0; y < c.ny; ++y)
-      for (int x = 0; x < c.nx; ++x)
-        for (double f : fluid.populations(x, y, z)) all.push_back(f);
-  return all;
-}
-
 // Steps both layouts side by side and compares every population after every step.
 template <class T>
 void expect_steps_alike(int nx, int ny, int nz, int threads, bool force, int steps) {
@@ -67,7 +56,7 @@ void expect_steps_alike(int nx, int ny, int nz, int threads, bool force, int ste
   start(arrays);
   start(blocks);
   for (int s = 0; s <= steps; ++s) {
-    const std::vector<double> a = all_populations(arrays), b = all_populations(blocks);
+    const std::vector<double> a = every_population(arrays), b = every_population(blocks);
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t k = 0; k < a.size(); ++k)
       ASSERT_EQ(a[k], b[k]) << nx << "x" << ny << "x" << nz << ", " << threads << " thread(s), force " << force
@@ -177,10 +166,10 @@ void expect_readers_alike() {
     arrays_from_blocks.step();
     blocks_from_arrays.step();
   }
-  const std::vector<double> expected = all_populations(arrays);
-  EXPECT_EQ(all_populations(blocks), expected);
-  EXPECT_EQ(all_populations(arrays_from_blocks), expected);
-  EXPECT_EQ(all_populations(blocks_from_arrays), expected);
+  const std::vector<double> expected = every_population(arrays);
+  EXPECT_EQ(every_population(blocks), expected);
+  EXPECT_EQ(every_population(arrays_from_blocks), expected);
+  EXPECT_EQ(every_population(blocks_from_arrays), expected);
 }
 
 TEST(BlockedLayout, ObserversBatchedCallsAndCheckpointsReadAlike) {

@@ -75,6 +75,19 @@ inline double relative_l2(const std::vector<double>& got, const std::vector<doub
   return std::sqrt(num / den);
 }
 
+// Every population of every node, x fastest: what the tests that hold two runs to each other bit
+// for bit compare.
+template <class Fluid>
+std::vector<double> every_population(const Fluid& fluid) {
+  const FluidConfig& c = fluid.config();
+  std::vector<double> all;
+  for (int z = 0; z < c.nz; ++z)
+    for (int y = 0; y < c.ny; ++y)
+      for (int x = 0; x < c.nx; ++x)
+        for (double f : fluid.populations(x, y, z)) all.push_back(f);
+  return all;
+}
+
 // Line fits come from the core's observers, as the service will use them.
 using observe::fit_line;
 

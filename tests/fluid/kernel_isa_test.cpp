@@ -36,12 +36,7 @@ std::vector<double> populations_after_steps(const FluidConfig& c, KernelIsa isa)
   fluid.initialize([](int x, int y, int z) { return 1.0 + 0.002 * std::sin(0.9 * x + 0.4 * y - 0.3 * z); },
                    [](int x, int y, int z) { return Vec3{0.03 * std::cos(0.5 * y), 0.01 * std::sin(0.7 * x), 0.005 * z}; });
   fluid.run(23);
-  std::vector<double> all;
-  for (int z = 0; z < c.nz; ++z)
-    for (int y = 0; y < c.ny; ++y)
-      for (int x = 0; x < c.nx; ++x)
-        for (double f : fluid.populations(x, y, z)) all.push_back(f);
-  return all;
+  return every_population(fluid);
 }
 
 template <class L, class T>
