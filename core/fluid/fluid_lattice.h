@@ -174,9 +174,12 @@ class FluidLattice {
     else return c + slots.offset[i];
   }
   // The later node's slots are taken to be this node's (exact within a row part, close
-  // elsewhere: a prefetch needs no exact address).
+  // elsewhere: a prefetch needs no exact address). Always inlined, in every build: left as a
+  // call, GCC 12 found the function free of side effects (it only prefetches) and deleted the
+  // calls, which it did for the blocks' version (the division by W made it too large to inline
+  // early) until this was seen in the disassembly: no prefetch in the blocked batched calls.
   template <bool kBlocks, class Slots>
-  void prefetch_node(const T* f, const NodeIndex& node, const Slots& slots, bool for_write) const {
+  inline __attribute__((always_inline)) void prefetch_node(const T* f, const NodeIndex& node, const Slots& slots, bool for_write) const {
     // As an integer: a guessed slot may lie outside the arrays, where a pointer may not point.
     const std::uintptr_t base = reinterpret_cast<std::uintptr_t>(f);
     const long c = cell(node[0], node[1], node[2]);
