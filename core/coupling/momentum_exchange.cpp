@@ -1,5 +1,7 @@
 #include "coupling/momentum_exchange.h"
 
+#include <bit>
+
 #include "fluid/force_inline.h"
 #include "fluid/kernel_isa.h"
 
@@ -67,7 +69,10 @@ std::size_t MomentumExchange::Slots::bytes_allocated() const {
 }
 
 std::size_t MomentumExchange::bytes_allocated() const {
-  return (cell_.capacity() + slot_.capacity() + order_.capacity()) * sizeof(std::uint32_t) +
+  std::size_t moves = 0;
+  for (const Moves& m : moves_) moves += sizeof(Moves) + m.particles.capacity() * sizeof(std::uint32_t);
+  return (cell_.capacity() + slot_.capacity() + order_.capacity() + listed_cell_.capacity()) * sizeof(std::uint32_t) +
+         moves + extra_table_.capacity() * sizeof(std::uint64_t) +
          marks_.capacity() * sizeof(MarkWord) + part_of_block_.capacity() * sizeof(std::uint16_t) +
          (block_count_.capacity() + range_counts_.capacity()) * sizeof(long) +
          parts_.capacity() * sizeof(Part) + slots_.bytes_allocated() + pairwise_dp_.capacity() * sizeof(fluid::Vec3);
@@ -171,19 +176,91 @@ void MomentumExchange::mark_cells(Part& part) {
   part.count = marked;
 }
 
-void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& mass,
-                                  const solid::ParticleVectors& momentum, const std::vector<char>* anchored) {
+bool MomentumExchange::keep_listing(int parts, parallel::ThreadPool* pool, long& moves) {
+  moves = 0;
+  const bool same = listed_ && rule_ == ExchangeRule::kCommonVelocity && parts == listed_parts_ &&
+                    listed_dimension_ == slots_.dimension && listed_cell_.size() == cell_.size();
+  if (!same) return false;
+  for (const Moves& range : moves_) {
+    if (!range.all) return false;
+    moves += static_cast<long>(range.particles.size());
+  }
+  if (moves_since_listing_ + moves > listed_slots_ / kRelistDivisor) return false;
+  // Moves to listed nodes, range by range on the pool (each particle's slot from the marks, which
+  // no one writes now); those to nodes not listed yet are kept in `particles` for the table.
+  const auto to_listed_nodes = [&](long first, long end) {
+    for (long r = first; r < end; ++r) {
+      std::vector<std::uint32_t>& particles = moves_[r].particles;
+      std::size_t unlisted = 0;
+      for (std::size_t i = 0; i < particles.size(); ++i) {
+        // The marks of later moves asked for ahead: the moves' cells are far apart.
+        if (i + kPrefetchMoves < particles.size()) __builtin_prefetch(&marks_[cell_[particles[i + kPrefetchMoves]] >> 6]);
+        const std::uint32_t p = particles[i];
+        const CellIndex c = cell_[p];
+        listed_cell_[p] = c;
+        const MarkWord& word = marks_[c >> 6];
+        if ((word.cells >> (c & 63)) & 1)
+          slot_[p] = static_cast<std::uint32_t>(slot_of_cell<fluid::kCompiledIsa>(word.cells, word.first_slot, c));
+        else
+          particles[unlisted++] = p;
+      }
+      particles.resize(unlisted);
+    }
+  };
+  const long ranges = static_cast<long>(moves_.size());
+  if (pool && ranges > 1) pool->parallel_for(ranges, static_cast<int>(ranges), to_listed_nodes);
+  else to_listed_nodes(0, ranges);
+  for (const Moves& range : moves_)
+    for (const std::uint32_t p : range.particles) slot_[p] = extra_slot_of(cell_[p]);
+  moves_since_listing_ += moves;
+  moves_.clear();  // applied: a second compute() without a locate() finds none
+  return true;
+}
+
+std::uint32_t MomentumExchange::extra_slot_of(CellIndex c) {
+  const std::uint64_t key = static_cast<std::uint64_t>(c) + 1;
+  const std::size_t mask = extra_table_.size() - 1;
+  std::size_t at = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> 32) & mask;
+  for (; extra_table_[at] != 0; at = (at + 1) & mask)
+    if ((extra_table_[at] >> 32) == key) return static_cast<std::uint32_t>(extra_table_[at]);
+  const long s = listed_slots_ + extra_slots_++;
+  extra_table_[at] = key << 32 | static_cast<std::uint32_t>(s);
+  if (slots_.size() <= s || static_cast<long>(slots_.momentum.size()) < slots_.dimension * (s + 1)) slots_.resize(s + 1);
+  const long nx = grid_[0], ny = grid_[1];
+  slots_.node[s] = {static_cast<int>(c % nx), static_cast<int>(c / nx % ny), static_cast<int>(c / nx / ny)};
+  return static_cast<std::uint32_t>(s);
+}
+
+void MomentumExchange::relist(int parts, parallel::ThreadPool* pool) {
+  if (listed_) for_parts(pool, [&](int k) { clear_marks(parts_[k]); });
+  cut_parts(parts, pool);
+  listed_slots_ = parts_.back().base + parts_.back().count;
+  extra_slots_ = 0;
+  extra_table_.assign(std::bit_ceil(static_cast<std::size_t>(2 * (listed_slots_ / kRelistDivisor + 1))), 0);
+  moves_since_listing_ = 0;
+  moves_.clear();
+  listed_cell_ = cell_;
+  listed_dimension_ = slots_.dimension;
+  listed_parts_ = parts;
+  listed_ = true;
+}
+
+void MomentumExchange::zero_sums(long first, long count) {
+  const int d = slots_.dimension;
+  std::fill_n(slots_.mass.data() + first, count, 0.0);
+  std::fill_n(slots_.momentum.data() + d * first, d * count, 0.0);
+  // The anchor counts are read only with anchors or by the pairwise rule (node_velocities).
+  if (anchors_present_ || rule_ != ExchangeRule::kCommonVelocity) std::fill_n(slots_.anchors.data() + first, count, 0u);
+}
+
+void MomentumExchange::list_nodes(const Part& part) {
   // The marked cells in order, the node of each followed row by row from the part's first cell.
   const long nx = grid_[0], ny = grid_[1];
   long row = part.first_cell / nx, row_end = (row + 1) * nx;
   int y = static_cast<int>(row % ny), z = static_cast<int>(row / ny);
   long s = part.base;
   // Raw pointers: through the vectors every store would make the compiler reload their data.
-  const int d = slots_.dimension;  // components of a slot's momentum (a 2D solid stores no z)
   Node* __restrict node = slots_.node.data();
-  double* __restrict slot_mass = slots_.mass.data();
-  double* __restrict slot_momentum = slots_.momentum.data();
-  std::uint32_t* __restrict slot_anchors = slots_.anchors.data();
   MarkWord* __restrict marks = marks_.data();
   for (long w = first_word(part), end = end_word(part); w < end; ++w) {
     marks[w].first_slot = static_cast<std::uint32_t>(s);
@@ -197,14 +274,20 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
         }
       }
       node[s] = {static_cast<int>(c - (row_end - nx)), y, z};
-      slot_mass[s] = 0;
-      slot_momentum[d * s] = slot_momentum[d * s + 1] = 0;
-      if (d == 3) slot_momentum[d * s + 2] = 0;
-      slot_anchors[s] = 0;
       ++s;
     }
   }
+  zero_sums(part.base, part.count);
+}
+
+template <bool kSlotsFromMarks>
+void MomentumExchange::sum_particles(const Part& part, const std::vector<double>& mass,
+                                     const solid::ParticleVectors& momentum, const std::vector<char>* anchored) {
   // Each node's particles summed in index order.
+  double* __restrict slot_mass = slots_.mass.data();
+  double* __restrict slot_momentum = slots_.momentum.data();
+  std::uint32_t* __restrict slot_anchors = slots_.anchors.data();
+  const MarkWord* __restrict marks = marks_.data();
   const CellIndex* __restrict cells = cell_.data();
   std::uint32_t* __restrict slot_of_particle = slot_.data();
   const double* __restrict masses = mass.data();
@@ -216,10 +299,15 @@ void MomentumExchange::list_nodes(const Part& part, const std::vector<double>& m
   auto sum = [&]<int D, bool kAnchors>(std::integral_constant<int, D>, std::bool_constant<kAnchors>) {
     fluid::run_with_isa(fluid::kernel_isa(), [&]<fluid::KernelIsa I>(fluid::IsaTag<I>) LBSOLID_FORCE_INLINE_LAMBDA {
       for_each_particle(part, [&](long p) LBSOLID_FORCE_INLINE_LAMBDA {
-        const CellIndex c = cells[p];
-        const MarkWord& word = marks[c >> 6];
-        const long slot = slot_of_cell<I>(word.cells, word.first_slot, c);
-        slot_of_particle[p] = static_cast<std::uint32_t>(slot);
+        long slot;
+        if constexpr (kSlotsFromMarks) {
+          const CellIndex c = cells[p];
+          const MarkWord& word = marks[c >> 6];
+          slot = slot_of_cell<I>(word.cells, word.first_slot, c);
+          slot_of_particle[p] = static_cast<std::uint32_t>(slot);
+        } else {
+          slot = slot_of_particle[p];
+        }
         if (kAnchors && anchor[p]) {
           ++slot_anchors[slot];
           return;
@@ -307,13 +395,27 @@ void MomentumExchange::pairwise_gains(const Part& part, const std::vector<double
 }
 
 ExchangedNodes MomentumExchange::exchanged() const {
+  // The slots some particle is at (a kept listing may hold nodes left empty), in cell order (a
+  // kept listing's later nodes follow the parts').
+  std::vector<char> used(static_cast<std::size_t>(listed_slots_ + extra_slots_), 0);
+  for (const std::uint32_t s : slot_) used[s] = 1;
+  std::vector<std::pair<long, long>> cell_and_slot;
+  for (long s = 0; s < static_cast<long>(used.size()); ++s) {
+    const Node& n = slots_.node[s];
+    if (used[s]) cell_and_slot.emplace_back(n[0] + grid_[0] * (n[1] + static_cast<long>(grid_[1]) * n[2]), s);
+  }
+  std::sort(cell_and_slot.begin(), cell_and_slot.end());
   ExchangedNodes out;
-  for (int k = 0; k < parts_used_; ++k) {
-    const Part& part = parts_[k];
-    out.nodes.insert(out.nodes.end(), slots_.node.begin() + part.base, slots_.node.begin() + part.base + part.count);
-    for (long s = part.base; s < part.base + part.count; ++s) out.gained.push_back(slots_.vector(slots_.gained, s));
+  for (const auto& [cell, s] : cell_and_slot) {
+    out.nodes.push_back(slots_.node[s]);
+    out.gained.push_back(slots_.vector(slots_.gained, s));
   }
   return out;
 }
+
+template void MomentumExchange::sum_particles<true>(const Part&, const std::vector<double>&, const solid::ParticleVectors&,
+                                                    const std::vector<char>*);
+template void MomentumExchange::sum_particles<false>(const Part&, const std::vector<double>&, const solid::ParticleVectors&,
+                                                     const std::vector<char>*);
 
 }  // namespace lbsolid::coupling

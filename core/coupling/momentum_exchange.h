@@ -19,8 +19,18 @@
 // bit for bit. particle_dp() then gives each particle its dP from its node's u* while the solid
 // steps, and inject() gives the fluid its momentum after the fluid's step. No particle is sorted
 // or moved.
+//
+// The listing is kept from one exchange to the next: a solid moves a small part of a spacing a
+// step, so few particles change node. locate() notes those that did; compute() then moves each
+// to its new node's slot (a node not listed yet gets a slot after the parts' own, out of cell
+// order; a node left without particles keeps its slot, and its fluid gains exactly nothing) and
+// sums every node again from slot_, skipping the marking, the listing and the slot lookups. Once
+// more than 1/kRelistDivisor of the nodes' particles have moved since the last listing, the
+// nodes are listed afresh. Each node's sums are still taken in particle index order, so the
+// results are the same bit for bit whichever way the nodes were found.
 #include <algorithm>
 #include <cstdint>
+#include <mutex>
 #include <stdexcept>
 #include <vector>
 
@@ -49,12 +59,16 @@ class MomentumExchange {
   // The cells are counted in at most this many blocks (plus one) to balance the parts: fine
   // enough to balance, few enough to sum every exchange.
   static constexpr long kBalanceBlocks = 4096;
+  // The nodes are listed afresh once more than 1/kRelistDivisor of them have seen a particle move
+  // since the last listing (each move leaves at most one slot empty and adds at most one out of
+  // cell order). Measured on the bench's scenes, 8 and 16 did as well, 4 worse.
+  static constexpr long kRelistDivisor = 16;
 
   // On a grid of nx x ny x nz fluid nodes.
   MomentumExchange(const std::array<int, 3>& grid, ExchangeRule rule);
 
   // Records cell_of(p), the cell of particle p's nearest node, for p in [0, n), in `parts`
-  // ranges on `pool` (cell_of must allow that).
+  // ranges on `pool` (cell_of must allow that), noting the particles whose node changed.
   template <class CellOf>
   void locate(long n, const CellOf& cell_of, parallel::ThreadPool* pool = nullptr, int parts = 1);
   // The same, a range at a time: fill(first, end, cells) writes cells[p] for p in [first, end).
@@ -94,14 +108,23 @@ class MomentumExchange {
   void inject(Fluid& fluid, parallel::ThreadPool* pool = nullptr) const;
 
   CellIndex cell(long p) const { return cell_[p]; }
-  // The last compute()'s nodes and what their fluid gains, in cell order (tests, diagnostics).
+  // The last compute()'s nodes (those with particles) and what their fluid gains, in cell order
+  // (tests, diagnostics).
   ExchangedNodes exchanged() const;
+  // Whether the last compute() listed its nodes afresh (tests, benchmarks).
+  bool relisted() const { return relisted_; }
   ExchangeRule rule() const { return rule_; }
   std::size_t bytes_allocated() const;
 
  private:
   // Nodes whose fluid is read in one batch: 512 x 32 B stays in the L1 cache until it is used.
   static constexpr long kReadChunk = 512;
+  // locate() compares a range's cells with the listed ones this many at a time, while they are
+  // still in the L1 cache.
+  static constexpr long kLocateChunk = 1024;
+  static constexpr long kCompareGroup = 16;
+  // keep_listing() asks for the marks of the move this many ahead.
+  static constexpr std::size_t kPrefetchMoves = 8;
   // 64 cells' marks and the slot of the first marked one: the slot of a marked cell is that plus
   // the marked cells before it in the word (slot_of_cell in the .cpp). 1/4 B a cell, read with one line,
   // where a slot a cell took 4 B and missed the cache in a dilute 3D box.
@@ -158,10 +181,29 @@ class MomentumExchange {
   void for_each_particle(const Part& part, const Visit& visit) const;
   // Marks the cells of the part's particles (and counts them by block for the next cut).
   void mark_cells(Part& part);
-  // Lists the part's marked nodes in cell order and sums the mass and momentum of their
-  // particles. The marks stay until clear_marks(part).
-  void list_nodes(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum,
-                  const std::vector<char>* anchored);
+  // Lists the part's marked nodes in cell order, their sums zero. The marks stay until the next
+  // listing clears them (clear_marks).
+  void list_nodes(const Part& part);
+  // Sums the mass and momentum of the part's particles per node, in index order: each particle's
+  // slot found from the marks (and recorded in slot_) after a listing, or read from slot_.
+  template <bool kSlotsFromMarks>
+  void sum_particles(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum,
+                     const std::vector<char>* anchored);
+  // Zeroes the sums of slots [first, first + count).
+  void zero_sums(long first, long count);
+  // Whether the last listing can be kept for an exchange in `parts` parts: the common-velocity
+  // rule, its particles, parts and dimension unchanged and few enough moves (locate() noted them).
+  // If so, gives the particles that changed node their new slots, `moves` of them.
+  bool keep_listing(int parts, parallel::ThreadPool* pool, long& moves);
+  // Lists the nodes afresh: clears the last listing's marks, cuts the parts and marks their cells.
+  void relist(int parts, parallel::ThreadPool* pool);
+  // The slot of cell c, a node not in the last listing, for a particle that moved there: the one
+  // it was given after the parts' slots, or a new one.
+  std::uint32_t extra_slot_of(CellIndex c);
+  // The comparison velocity and gain of the slots [first, first + count), their fluid read in
+  // batches.
+  template <class Fluid>
+  void read_and_compare(const Fluid& fluid, long first, long count);
   // The part's words of marks. A part starts on a word boundary, but for a part left empty at the
   // grid's end (its cells [cells_, cells_)): rounded up, it has no word, where rounded down it had
   // the last word of the part before it, and listed and cleared that part's marks as its own.
@@ -179,6 +221,9 @@ class MomentumExchange {
   // work(k) for every part k, on the pool when there are several.
   template <class Work>
   void for_parts(parallel::ThreadPool* pool, const Work& work) const;
+  // work(first, count) over the slots listed since the parts' own, in as many ranges as parts.
+  template <class Work>
+  void for_extra_slots(parallel::ThreadPool* pool, const Work& work) const;
 
   ExchangeRule rule_;
   std::array<int, 3> grid_;
@@ -186,7 +231,25 @@ class MomentumExchange {
   int block_shift_;                      // cells of a counting block: 2^block_shift_, at least a word
   std::vector<CellIndex> cell_;          // per particle: its node's cell
   std::vector<std::uint32_t> slot_;      // per particle: its node's slot
-  std::vector<MarkWord> marks_;          // per cell a bit: a particle is there (zero between exchanges)
+  // The listing kept between exchanges. A range of locate()'s particles whose cells differ from
+  // listed_cell_ (at most `particles` of them noted; `all` false when there were more).
+  struct Moves {
+    std::vector<std::uint32_t> particles;
+    bool all = true;
+  };
+  std::vector<CellIndex> listed_cell_;   // per particle: the cell of its slot, as last listed or moved
+  std::vector<Moves> moves_;             // from the last locate(), one a range, in no set order
+  bool listed_ = false;                  // the marks and slots hold a listing
+  bool relisted_ = false;                // the last compute() listed afresh
+  int listed_dimension_ = 0;
+  int listed_parts_ = 0;                 // the parts asked for (cut_parts may use fewer)
+  long listed_slots_ = 0;                // the parts' slots, in cell order
+  long extra_slots_ = 0;                 // slots of nodes listed since, after those
+  long moves_since_listing_ = 0;
+  // Their cells and slots, (cell + 1) << 32 | slot, by open addressing (linear probing, at most
+  // half full: extra_slots_ <= listed_slots_ / kRelistDivisor); 0 is an empty entry.
+  std::vector<std::uint64_t> extra_table_;
+  std::vector<MarkWord> marks_;          // per cell a bit: a node of the last listing is there
   std::vector<long> block_count_;        // per block of cells: particles there at the last exchange
   std::vector<Part> parts_;
   bool sorted_ = false;                        // this exchange's parts walk order_ (sort_by_part)
@@ -210,6 +273,14 @@ void MomentumExchange::for_parts(parallel::ThreadPool* pool, const Work& work) c
   }
 }
 
+template <class Work>
+void MomentumExchange::for_extra_slots(parallel::ThreadPool* pool, const Work& work) const {
+  if (extra_slots_ == 0) return;
+  const auto run = [&](long first, long end) { work(listed_slots_ + first, end - first); };
+  if (pool && parts_used_ > 1) pool->parallel_for(extra_slots_, parts_used_, run);
+  else run(0, extra_slots_);
+}
+
 template <class Visit>
 void MomentumExchange::for_each_particle(const Part& part, const Visit& visit) const {
   if (sorted_) {
@@ -220,6 +291,10 @@ void MomentumExchange::for_each_particle(const Part& part, const Visit& visit) c
   const CellIndex* __restrict cells = cell_.data();
   const CellIndex first = part.first_cell, end = part.end_cell;
   const long n = static_cast<long>(cell_.size());
+  if (first == 0 && end == cells_) {  // one part: no cell need be read to know it is the part's
+    for (long p = 0; p < n; ++p) visit(p);
+    return;
+  }
   for (long p = 0; p < n; ++p)
     if (cells[p] >= first && cells[p] < end) visit(p);
 }
@@ -237,7 +312,39 @@ void MomentumExchange::locate(long n, const CellOf& cell_of, parallel::ThreadPoo
 template <class Fill>
 void MomentumExchange::locate_ranges(long n, const Fill& fill, parallel::ThreadPool* pool, int parts) {
   cell_.resize(n);
-  const auto run = [&](long first, long end) { fill(first, end, cell_.data()); };
+  moves_.clear();
+  // Moves are noted only where a listing could be kept, and not beyond what would make it relist.
+  const bool noting = listed_ && static_cast<long>(listed_cell_.size()) == n;
+  const long allowed = std::max(0L, listed_slots_ / kRelistDivisor - moves_since_listing_);
+  std::mutex noted;
+  const auto run = [&](long first, long end) {
+    Moves moves;
+    CellIndex* __restrict cells = cell_.data();
+    const CellIndex* __restrict listed = listed_cell_.data();
+    for (long chunk = first; chunk < end; chunk += kLocateChunk) {
+      const long chunk_end = std::min(end, chunk + kLocateChunk);
+      fill(chunk, chunk_end, cells);
+      if (!noting || !moves.all) continue;
+      // Groups of kCompareGroup compared without a branch (vector instructions), and only a group
+      // with a move looked into: about one in six at 1% of the particles moving a step.
+      for (long group = chunk; group < chunk_end && moves.all; group += kCompareGroup) {
+        const long group_end = std::min(chunk_end, group + kCompareGroup);
+        CellIndex differ = 0;
+        for (long p = group; p < group_end; ++p) differ |= cells[p] ^ listed[p];
+        if (differ == 0) continue;
+        for (long p = group; p < group_end; ++p) {
+          if (cells[p] == listed[p]) continue;
+          if (static_cast<long>(moves.particles.size()) == allowed) {
+            moves.all = false;
+            break;
+          }
+          moves.particles.push_back(static_cast<std::uint32_t>(p));
+        }
+      }
+    }
+    std::lock_guard lock(noted);
+    moves_.push_back(std::move(moves));
+  };
   if (pool && parts > 1) pool->parallel_for(n, parts, run);
   else run(0, n);
 }
@@ -247,23 +354,42 @@ void MomentumExchange::compute(const std::vector<double>& mass, const solid::Par
                                const Fluid& fluid, parallel::ThreadPool* pool, int parts,
                                const std::vector<char>* anchored) {
   slots_.dimension = momentum.dimension;
-  cut_parts(pool ? parts : 1, pool);
   anchors_present_ = anchored != nullptr;
+  long moves = 0;
+  relisted_ = !keep_listing(pool ? parts : 1, pool, moves);
+  if (relisted_) {
+    relist(pool ? parts : 1, pool);
+  } else {
+    if (sorted_ && moves > 0) sort_by_part(pool);  // a particle that moved may be another part's now
+    zero_sums(listed_slots_, extra_slots_);
+  }
   slot_.resize(cell_.size());
   if (rule_ == ExchangeRule::kPairwise) pairwise_dp_.resize(cell_.size());
   for_parts(pool, [&](int k) {
     const Part& part = parts_[k];
-    list_nodes(part, mass, momentum, anchored);
-    // The fluid read a chunk at a time into a buffer that stays in cache, and used at once.
-    fluid::DensityMomentum read[kReadChunk];
-    for (long first = part.base; first < part.base + part.count; first += kReadChunk) {
-      const long count = std::min(kReadChunk, part.base + part.count - first);
-      fluid.gather_momenta(slots_.node.data() + first, count, read);
-      node_velocities(first, count, read);
+    if (relisted_) {
+      list_nodes(part);
+      sum_particles<true>(part, mass, momentum, anchored);
+    } else {
+      zero_sums(part.base, part.count);
+      sum_particles<false>(part, mass, momentum, anchored);
     }
+    read_and_compare(fluid, part.base, part.count);
     if (rule_ == ExchangeRule::kPairwise) pairwise_gains(part, mass, momentum);
-    clear_marks(part);
   });
+  // The nodes listed since the parts' own, summed above by the parts their cells are in.
+  for_extra_slots(pool, [&](long first, long count) { read_and_compare(fluid, first, count); });
+}
+
+template <class Fluid>
+void MomentumExchange::read_and_compare(const Fluid& fluid, long first, long count) {
+  // The fluid read a chunk at a time into a buffer that stays in cache, and used at once.
+  fluid::DensityMomentum read[kReadChunk];
+  for (long chunk = first; chunk < first + count; chunk += kReadChunk) {
+    const long chunk_count = std::min(kReadChunk, first + count - chunk);
+    fluid.gather_momenta(slots_.node.data() + chunk, chunk_count, read);
+    node_velocities(chunk, chunk_count, read);
+  }
 }
 
 template <class Fluid>
@@ -274,6 +400,9 @@ void MomentumExchange::inject(Fluid& fluid, parallel::ThreadPool* pool) const {
     const Part& part = parts_[k];
     if (part.count > 0)
       fluid.add_momenta(slots_.node.data() + part.base, slots_.gained.data() + Fluid::D * part.base, part.count);
+  });
+  for_extra_slots(pool, [&](long first, long count) {
+    fluid.add_momenta(slots_.node.data() + first, slots_.gained.data() + Fluid::D * first, count);
   });
 }
 

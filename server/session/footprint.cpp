@@ -70,7 +70,11 @@ long long bytes_per_particle(int dimension, bool with_fluid, bool rotating, bool
   const int links = 2 * dimension;
   const int vector = 8 * dimension;
   const long long solid = 4 + 12 + vector + 8 + vector + vector + links * (4 + vector) + 1 + 24;
-  const long long exchange = with_fluid ? 4 + 4 + 4 + 120 + 8 + 24 + (rotating ? 12 + vector : 0) : 0;
+  // The exchange: a particle's cell, slot and place in order_, its node's slot (120 B), its
+  // mass, its pairwise dP; for the listing kept between exchanges, its listed cell and up to
+  // 1/16 more slots (7.5 B) with their table's entries (1 B) and noted moves (0.25 B): 16 B.
+  static_assert(coupling::MomentumExchange::kRelistDivisor >= 16, "the kept listing's 16 B a particle");
+  const long long exchange = with_fluid ? 4 + 4 + 4 + 120 + 8 + 24 + 16 + (rotating ? 12 + vector : 0) : 0;
   const long long torque = rotating ? 48 : 0;
   const long long forces = particle_forces ? 2 * 24 + 4 + 1 + dimension * 40 : 0;
   return 2 * (solid + exchange + torque + forces);
