@@ -101,7 +101,7 @@ void MomentumExchange::cut_parts(int parts, parallel::ThreadPool* pool) {
     part.end_cell = static_cast<CellIndex>(std::min(block << block_shift_, cells_));
     part.end_block = block;
   }
-  sorted_ = parts >= kSortedParts;
+  sorted_ = parts > 1;
   if (sorted_) sort_by_part(pool);
   // Each part's nodes are its marked cells; its slots follow those of the parts before it.
   for_parts(pool, [&](int k) { mark_cells(parts_[k]); });
@@ -178,6 +178,7 @@ void MomentumExchange::mark_cells(Part& part) {
 
 bool MomentumExchange::keep_listing(int parts, parallel::ThreadPool* pool, long& moves) {
   moves = 0;
+  part_changed_ = false;
   const bool same = listed_ && rule_ == ExchangeRule::kCommonVelocity && parts == listed_parts_ &&
                     listed_dimension_ == slots_.dimension && listed_cell_.size() == cell_.size();
   if (!same) return false;
@@ -197,6 +198,8 @@ bool MomentumExchange::keep_listing(int parts, parallel::ThreadPool* pool, long&
         if (i + kPrefetchMoves < particles.size()) __builtin_prefetch(&marks_[cell_[particles[i + kPrefetchMoves]] >> 6]);
         const std::uint32_t p = particles[i];
         const CellIndex c = cell_[p];
+        if (sorted_ && part_of_block_[listed_cell_[p] >> block_shift_] != part_of_block_[c >> block_shift_])
+          moves_[r].part_changed = true;
         listed_cell_[p] = c;
         const MarkWord& word = marks_[c >> 6];
         if ((word.cells >> (c & 63)) & 1)
@@ -210,8 +213,10 @@ bool MomentumExchange::keep_listing(int parts, parallel::ThreadPool* pool, long&
   const long ranges = static_cast<long>(moves_.size());
   if (pool && ranges > 1) pool->parallel_for(ranges, static_cast<int>(ranges), to_listed_nodes);
   else to_listed_nodes(0, ranges);
-  for (const Moves& range : moves_)
+  for (const Moves& range : moves_) {
     for (const std::uint32_t p : range.particles) slot_[p] = extra_slot_of(cell_[p]);
+    part_changed_ = part_changed_ || range.part_changed;
+  }
   moves_since_listing_ += moves;
   moves_.clear();  // applied: a second compute() without a locate() finds none
   return true;

@@ -10,10 +10,9 @@
 //
 // An exchange runs in three calls. locate() records each particle's cell. compute() cuts the
 // cells into parts (ranges of about equal particle counts, from the last exchange's counts); each
-// part walks the particles in index order (all of them, or with many parts only its own, sorted
-// out beforehand), marks the cells in its range in a bitmap, lists them
-// in cell order (so that the fluid is read, and later written, in the order it is stored), walks
-// the particles again summing those in its range per node, reads its nodes' fluid in batches of
+// part walks its particles in index order (with several parts, sorted out by part beforehand),
+// marks their cells in a bitmap, lists them in cell order (so that the fluid is read, and later
+// written, in the order it is stored), walks the particles again summing them per node, reads its nodes' fluid in batches of
 // kReadChunk nodes and works out each node's velocity u* and what its fluid gains. A node's
 // particles are thus summed in index order whatever the number of parts: the result is the same
 // bit for bit. particle_dp() then gives each particle its dP from its node's u* while the solid
@@ -165,15 +164,15 @@ class MomentumExchange {
   // Cuts [0, cells) into `parts` ranges at block boundaries, each with about as many particles of
   // the last exchange as the others; marks each part's cells and gives it its slots.
   void cut_parts(int parts, parallel::ThreadPool* pool);
-  // With kSortedParts parts or more: the particle indices grouped by part into order_ (each part's
-  // in index order), so that a part walks its own particles only. Walking all particles in every
-  // part made the exchange's own work grow with the parts: one thread running P parts after one
-  // another, against one part (a fluid that answers at once), 1.36x at 8 parts and 1.83x at 16
-  // for the 2D sheets at 1 per cell, 1.60x and 2.4-2.9x for the 3D balls; sorted, 0.96x and
-  // 1.00x, 1.15x and 1.20x. With 2 parts on 2 threads the sort cost more than it saved (2D 1 per
-  // cell, exchange 9.0-11.2 ns a particle walking all against 10.8-13.0 sorted), and at 4 parts
-  // it saved 13-15% of that work, too little to be sure of on more cores than this machine has.
-  static constexpr int kSortedParts = 8;
+  // With several parts: the particle indices grouped by part into order_ (each part's in index
+  // order), so that a part walks its own particles only; sorted at each listing, and again only
+  // when a moved particle changes part. Walking all particles in every part (filtering by cell)
+  // made the exchange's own work grow with the parts: one thread running P parts after one
+  // another, against one part, 1.36x at 8 parts and 1.83x at 16 for the 2D sheets at 1 per cell,
+  // 1.60x and 2.4-2.9x for the 3D balls; sorted, 0.96x and 1.00x, 1.15x and 1.20x. With the
+  // sort done every exchange, 2 parts on 2 threads lost (2D 1 per cell, exchange 9.0-11.2 ns a
+  // particle walking all against 10.8-13.0 sorted); with the listing kept they gain (8.2-8.9
+  // against 7.4-7.6).
   static_assert(kBalanceBlocks + 1 <= 65535, "a part's index must fit part_of_block_'s 16 bits");
   void sort_by_part(parallel::ThreadPool* pool);
   // visit(p) for the part's particles p, in index order.
@@ -236,11 +235,13 @@ class MomentumExchange {
   struct Moves {
     std::vector<std::uint32_t> particles;
     bool all = true;
+    bool part_changed = false;  // (with sorted parts) one of them moved to another part's cells
   };
   std::vector<CellIndex> listed_cell_;   // per particle: the cell of its slot, as last listed or moved
   std::vector<Moves> moves_;             // from the last locate(), one a range, in no set order
   bool listed_ = false;                  // the marks and slots hold a listing
   bool relisted_ = false;                // the last compute() listed afresh
+  bool part_changed_ = false;            // keep_listing(): some moved particle is another part's now
   int listed_dimension_ = 0;
   int listed_parts_ = 0;                 // the parts asked for (cut_parts may use fewer)
   long listed_slots_ = 0;                // the parts' slots, in cell order
@@ -252,7 +253,7 @@ class MomentumExchange {
   std::vector<MarkWord> marks_;          // per cell a bit: a node of the last listing is there
   std::vector<long> block_count_;        // per block of cells: particles there at the last exchange
   std::vector<Part> parts_;
-  bool sorted_ = false;                        // this exchange's parts walk order_ (sort_by_part)
+  bool sorted_ = false;                        // several parts, walking order_ (sort_by_part)
   std::vector<std::uint32_t> order_;           // particle indices, part by part
   std::vector<std::uint16_t> part_of_block_;   // the part of each counting block
   std::vector<long> range_counts_;             // particles per (range of indices, part), then offsets
@@ -288,15 +289,8 @@ void MomentumExchange::for_each_particle(const Part& part, const Visit& visit) c
     for (long i = part.first_particle; i < part.end_particle; ++i) visit(static_cast<long>(order[i]));
     return;
   }
-  const CellIndex* __restrict cells = cell_.data();
-  const CellIndex first = part.first_cell, end = part.end_cell;
-  const long n = static_cast<long>(cell_.size());
-  if (first == 0 && end == cells_) {  // one part: no cell need be read to know it is the part's
-    for (long p = 0; p < n; ++p) visit(p);
-    return;
-  }
-  for (long p = 0; p < n; ++p)
-    if (cells[p] >= first && cells[p] < end) visit(p);
+  const long n = static_cast<long>(cell_.size());  // one part: all of them
+  for (long p = 0; p < n; ++p) visit(p);
 }
 
 template <class CellOf>
@@ -360,7 +354,7 @@ void MomentumExchange::compute(const std::vector<double>& mass, const solid::Par
   if (relisted_) {
     relist(pool ? parts : 1, pool);
   } else {
-    if (sorted_ && moves > 0) sort_by_part(pool);  // a particle that moved may be another part's now
+    if (part_changed_) sort_by_part(pool);  // some particle moved to another part's cells
     zero_sums(listed_slots_, extra_slots_);
   }
   slot_.resize(cell_.size());

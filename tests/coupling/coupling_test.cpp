@@ -300,8 +300,7 @@ void expect_each_particle_meets_its_own_node(MomentumExchange& exchange, int nx,
 // own (on every instruction-set path: popcnt or a count in registers). Particles in random order
 // on random cells of a 200 x 3 grid (ten words, the last one short; the first and last cells of
 // words included), several on some cells. Twice, on other cells, to show no mark outlives its
-// exchange; in 1, 3 and 12 parts (12: more than the grid's ten blocks, so some get no cells, and
-// enough for the particles to be sorted by part first, MomentumExchange::kSortedParts).
+// exchange; in 1, 3 and 12 parts (12: more than the grid's ten blocks, so some get no cells).
 TEST(MomentumExchange, EachParticleMeetsItsOwnNode) {
   const int nx = 200, ny = 3;
   std::mt19937 random(7);
@@ -329,8 +328,7 @@ TEST(MomentumExchange, EachParticleMeetsItsOwnNode) {
 // the others empty at the grid's end, inside that block's word. An empty part must touch no word:
 // it once listed the first part's marks of that word as its own and cleared them while the first
 // part, busy with its 20,000 particles on another thread, still needed them (wrong dP, and
-// writes past the slots; seen in most runs of this test). With 9 parts the particles are sorted
-// by part first (MomentumExchange::kSortedParts), and 8 parts are left empty.
+// writes past the slots; seen in most runs of this test). With 9 parts, 8 are left empty.
 TEST(MomentumExchange, PartsLeftEmptyAtTheGridsEndTouchNoMark) {
   const int nx = 200, ny = 3;
   std::mt19937 random(11);
@@ -369,8 +367,9 @@ struct RecordingFluid : NodeDependentFluid {
 // leaving nodes empty; anchors among them) gives every particle and every node exactly what a
 // fresh exchange, which lists its nodes anew, gives them. 2,000 particles random-walk on a 100 x 40
 // grid, 1% of them stepping to a neighbouring cell each exchange, for 60 exchanges, in 1, 3 and 12
-// parts (12: the particles sorted by part first). Some exchanges must have kept the listing and
-// some listed afresh, or the comparison would test nothing.
+// parts (several parts walk their particles sorted by part, sorted again when one moves to
+// another part's cells). Some exchanges must have kept the listing and some listed afresh, or the
+// comparison would test nothing.
 TEST(MomentumExchange, KeptListingGivesWhatAFreshOneGives) {
   const int nx = 100, ny = 40;
   std::mt19937 random(5);
