@@ -52,13 +52,18 @@ MomentumExchange::MomentumExchange(const std::array<int, 3>& grid, ExchangeRule 
 }
 
 void MomentumExchange::Slots::resize(std::size_t n) {
-  node.resize(n);
-  mass.resize(n);
-  momentum.resize(dimension * n);
-  velocity.resize(dimension * n);
-  gained.resize(dimension * n);
-  anchors.resize(n);
-  anchor_share.resize(dimension * n);
+  // Exactly n: a growing vector's resize would double its capacity (and the exchange's memory).
+  const auto exactly = [](auto& v, std::size_t size) {
+    v.reserve(size);
+    v.resize(size);
+  };
+  exactly(node, n);
+  exactly(mass, n);
+  exactly(momentum, dimension * n);
+  exactly(velocity, dimension * n);
+  exactly(gained, dimension * n);
+  exactly(anchors, n);
+  exactly(anchor_share, dimension * n);
 }
 
 std::size_t MomentumExchange::Slots::bytes_allocated() const {
@@ -110,8 +115,10 @@ void MomentumExchange::cut_parts(int parts, parallel::ThreadPool* pool) {
     part.base = slots;
     slots += part.count;
   }
-  if (slots_.size() < slots || static_cast<long>(slots_.momentum.size()) < slots_.dimension * slots)
-    slots_.resize(slots);
+  // Room for the nodes a kept listing may add after these, one a move at most (keep_listing).
+  const long room = slots + slots / kRelistDivisor + 1;
+  if (slots_.size() < room || static_cast<long>(slots_.momentum.size()) < slots_.dimension * room)
+    slots_.resize(room);
   if (rule_ == ExchangeRule::kPairwise && static_cast<long>(slots_.pairwise_rho.size()) < slots)
     slots_.pairwise_rho.resize(slots);
 }
@@ -230,7 +237,8 @@ std::uint32_t MomentumExchange::extra_slot_of(CellIndex c) {
     if ((extra_table_[at] >> 32) == key) return static_cast<std::uint32_t>(extra_table_[at]);
   const long s = listed_slots_ + extra_slots_++;
   extra_table_[at] = key << 32 | static_cast<std::uint32_t>(s);
-  if (slots_.size() <= s || static_cast<long>(slots_.momentum.size()) < slots_.dimension * (s + 1)) slots_.resize(s + 1);
+  if (slots_.size() <= s || static_cast<long>(slots_.momentum.size()) < slots_.dimension * (s + 1))
+    throw std::logic_error("MomentumExchange: more nodes added than the listing left room for");
   const long nx = grid_[0], ny = grid_[1];
   slots_.node[s] = {static_cast<int>(c % nx), static_cast<int>(c / nx % ny), static_cast<int>(c / nx / ny)};
   return static_cast<std::uint32_t>(s);
