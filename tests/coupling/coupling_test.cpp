@@ -413,7 +413,9 @@ TEST(MomentumExchange, KeptListingGivesWhatAFreshOneGives) {
         const Vec3 psi{momentum[2 * p], momentum[2 * p + 1], 0};
         const long i = static_cast<long>(p);
         ASSERT_EQ(kept.particle_dp<2>(i, psi, mass[p]), fresh.particle_dp<2>(i, psi, mass[p])) << context << ", " << p;
-        if (anchored[p]) ASSERT_EQ(kept.anchor_dp(i), fresh.anchor_dp(i)) << context << ", " << p;
+        if (anchored[p]) {
+          ASSERT_EQ(kept.anchor_dp(i), fresh.anchor_dp(i)) << context << ", " << p;
+        }
       }
       const ExchangedNodes kept_nodes = kept.exchanged(), fresh_nodes = fresh.exchanged();
       ASSERT_EQ(kept_nodes.nodes, fresh_nodes.nodes) << context;
@@ -425,8 +427,11 @@ TEST(MomentumExchange, KeptListingGivesWhatAFreshOneGives) {
         ASSERT_TRUE(at != kept_fluid.gained.end()) << context << ", cell " << cell;
         ASSERT_EQ(at->second, g) << context << ", cell " << cell;
       }
-      for (const auto& [cell, g] : kept_fluid.gained)
-        if (!fresh_fluid.gained.contains(cell)) ASSERT_EQ(g, (std::array<double, 2>{0, 0})) << context << ", cell " << cell;
+      for (const auto& [cell, g] : kept_fluid.gained) {
+        if (!fresh_fluid.gained.contains(cell)) {
+          ASSERT_EQ(g, (std::array<double, 2>{0, 0})) << context << ", cell " << cell;
+        }
+      }
     }
     EXPECT_GT(kept_count, 30) << parts << " parts";
     EXPECT_GT(relisted_count, 1) << parts << " parts";
