@@ -77,7 +77,7 @@ std::size_t MomentumExchange::bytes_allocated() const {
   std::size_t moves = 0;
   for (const Moves& m : moves_) moves += sizeof(Moves) + m.particles.capacity() * sizeof(std::uint32_t);
   return (cell_.capacity() + slot_.capacity() + order_.capacity() + listed_cell_.capacity()) * sizeof(std::uint32_t) +
-         moves + extra_table_.capacity() * sizeof(std::uint64_t) +
+         moves + (extra_table_.capacity() + extra_marks_.capacity()) * sizeof(std::uint64_t) +
          marks_.capacity() * sizeof(MarkWord) + part_of_block_.capacity() * sizeof(std::uint16_t) +
          (block_count_.capacity() + range_counts_.capacity()) * sizeof(long) +
          parts_.capacity() * sizeof(Part) + slots_.bytes_allocated() + pairwise_dp_.capacity() * sizeof(fluid::Vec3);
@@ -183,6 +183,65 @@ void MomentumExchange::mark_cells(Part& part) {
   part.count = marked;
 }
 
+void MomentumExchange::begin_listing(int dimension, int parts, parallel::ThreadPool* pool, bool anchors) {
+  slots_.dimension = dimension;
+  anchors_present_ = anchors;
+  long moves = 0;
+  relisted_ = !keep_listing(parts, pool, moves);
+  if (relisted_) {
+    relist(parts, pool);
+  } else {
+    if (part_changed_) sort_by_part(pool);  // some particle moved to another part's cells
+    zero_sums(listed_slots_, extra_slots_);
+  }
+  slot_.resize(cell_.size());
+  if (rule_ == ExchangeRule::kPairwise) pairwise_dp_.resize(cell_.size());
+}
+
+void MomentumExchange::sum_part(const Part& part, const std::vector<double>& mass,
+                                const solid::ParticleVectors& momentum, const std::vector<char>* anchored) {
+  if (relisted_) {
+    list_nodes(part);
+    sum_particles<true>(part, mass, momentum, anchored);
+  } else {
+    zero_sums(part.base, part.count);
+    sum_particles<false>(part, mass, momentum, anchored);
+  }
+}
+
+void MomentumExchange::compute_sums(const std::vector<double>& mass, const solid::ParticleVectors& momentum,
+                                    parallel::ThreadPool* pool, int parts, const std::vector<char>* anchored) {
+  begin_listing(momentum.dimension, pool ? parts : 1, pool, anchored != nullptr);
+  for_parts(pool, [&](int k) { sum_part(parts_[k], mass, momentum, anchored); });
+}
+
+std::uint32_t MomentumExchange::other_slot(long cell) const {
+  const std::uint64_t key = static_cast<std::uint64_t>(cell) + 1;
+  const std::size_t mask = extra_table_.size() - 1;
+  for (std::size_t at = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> 32) & mask; extra_table_[at] != 0;
+       at = (at + 1) & mask)
+    if ((extra_table_[at] >> 32) == key) return static_cast<std::uint32_t>(extra_table_[at]);
+  throw std::logic_error("MomentumExchange: a cell marked as another node's has no slot");
+}
+
+const double* MomentumExchange::exchange(std::uint32_t first_slot, long count, const fluid::DensityMomentum* fluid) {
+  // The step reaches the nodes in cell order, the order of their slots (but for the few listed
+  // since): every line of the slots kStepPrefetchAhead on is asked for now (their lines are long
+  // evicted by the step; asking for one line an array a call missed most of them in 3D).
+  const long from = static_cast<long>(first_slot) + kStepPrefetchAhead;
+  const long to = std::min(from + count, slots_.size());
+  const int d = slots_.dimension;
+  constexpr long kLine = 64 / sizeof(double);
+  for (long at = from; at < to; at += kLine) __builtin_prefetch(slots_.mass.data() + at);
+  for (long at = d * from; at < d * to; at += kLine) {
+    __builtin_prefetch(slots_.momentum.data() + at);
+    __builtin_prefetch(slots_.velocity.data() + at, 1);
+    __builtin_prefetch(slots_.gained.data() + at, 1);
+  }
+  node_velocities(first_slot, count, fluid);
+  return slots_.gained.data() + static_cast<long>(slots_.dimension) * first_slot;
+}
+
 bool MomentumExchange::keep_listing(int parts, parallel::ThreadPool* pool, long& moves) {
   moves = 0;
   part_changed_ = false;
@@ -237,6 +296,8 @@ std::uint32_t MomentumExchange::extra_slot_of(CellIndex c) {
     if ((extra_table_[at] >> 32) == key) return static_cast<std::uint32_t>(extra_table_[at]);
   const long s = listed_slots_ + extra_slots_++;
   extra_table_[at] = key << 32 | static_cast<std::uint32_t>(s);
+  if (extra_marks_.empty()) extra_marks_.assign(marks_.size(), 0);
+  extra_marks_[c >> 6] |= std::uint64_t{1} << (c & 63);
   if (slots_.size() <= s || static_cast<long>(slots_.momentum.size()) < slots_.dimension * (s + 1))
     throw std::logic_error("MomentumExchange: more nodes added than the listing left room for");
   const long nx = grid_[0], ny = grid_[1];
@@ -246,6 +307,11 @@ std::uint32_t MomentumExchange::extra_slot_of(CellIndex c) {
 
 void MomentumExchange::relist(int parts, parallel::ThreadPool* pool) {
   if (listed_) for_parts(pool, [&](int k) { clear_marks(parts_[k]); });
+  for (long s = listed_slots_; s < listed_slots_ + extra_slots_; ++s) {  // the extra nodes' marks
+    const Node& node = slots_.node[s];
+    const long c = node[0] + grid_[0] * (node[1] + static_cast<long>(grid_[1]) * node[2]);
+    extra_marks_[c >> 6] &= ~(std::uint64_t{1} << (c & 63));
+  }
   cut_parts(parts, pool);
   listed_slots_ = parts_.back().base + parts_.back().count;
   extra_slots_ = 0;

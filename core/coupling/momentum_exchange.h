@@ -27,6 +27,13 @@
 // more than 1/kRelistDivisor of the nodes' particles have moved since the last listing, the
 // nodes are listed afresh. Each node's sums are still taken in particle index order, so the
 // results are the same bit for bit whichever way the nodes were found.
+//
+// Where the fluid allows it (FluidLattice::can_exchange_in_step, and the common-velocity rule),
+// the fluid is read and given its momentum inside its step instead (in_step_exchange.h):
+// compute_sums() does all but the fluid's read, and step_fluid() steps the fluid with the
+// exchange done at each node as the step stores it, in place of compute()'s read before the step
+// and inject() after it. The two ways agree to round-off (the fluid read after the collision
+// instead of before); each is the same bit for bit whatever the threads and the listing.
 #include <algorithm>
 #include <cstdint>
 #include <mutex>
@@ -34,6 +41,7 @@
 #include <vector>
 
 #include "coupling/node_locator.h"
+#include "fluid/in_step_exchange.h"
 #include "fluid/node_exchange_types.h"
 #include "parallel/thread_pool.h"
 #include "solid/particle_vectors.h"
@@ -53,7 +61,7 @@ struct ExchangedNodes {
 // A fluid cell's index, x + nx (y + ny z); grids have fewer than 2^32 cells (FluidConfig).
 using CellIndex = std::uint32_t;
 
-class MomentumExchange {
+class MomentumExchange final : private fluid::InStepExchange {
  public:
   // The cells are counted in at most this many blocks (plus one) to balance the parts: fine
   // enough to balance, few enough to sum every exchange.
@@ -82,6 +90,15 @@ class MomentumExchange {
   template <class Fluid>
   void compute(const std::vector<double>& mass, const solid::ParticleVectors& momentum, const Fluid& fluid,
                parallel::ThreadPool* pool = nullptr, int parts = 1, const std::vector<char>* anchored = nullptr);
+  // compute() but for the fluid's read: the nodes and their particles' sums, for step_fluid().
+  void compute_sums(const std::vector<double>& mass, const solid::ParticleVectors& momentum,
+                    parallel::ThreadPool* pool = nullptr, int parts = 1, const std::vector<char>* anchored = nullptr);
+  // The fluid's step with the exchange of the last compute_sums() inside it: afterwards
+  // particle_dp(), anchor_dp() and exchanged() give what compute() and inject() around a
+  // step() would have, to round-off. Needs fluid.can_exchange_in_step() and the common-velocity
+  // rule (std::logic_error otherwise).
+  template <class Fluid>
+  void step_fluid(Fluid& fluid);
   // The momentum particle p gives its node, given the mass and momentum compute() had for it;
   // D is the solid's dimension (a 2D exchange keeps no z: dp's z is the momentum's).
   template <int D>
@@ -122,15 +139,17 @@ class MomentumExchange {
   // still in the L1 cache.
   static constexpr long kLocateChunk = 1024;
   static constexpr long kCompareGroup = 16;
+  // exchange() asks for the slots this many on.
+  static constexpr long kStepPrefetchAhead = 16;
   // keep_listing() asks for the marks of the move this many ahead.
   static constexpr std::size_t kPrefetchMoves = 8;
-  // 64 cells' marks and the slot of the first marked one: the slot of a marked cell is that plus
-  // the marked cells before it in the word (slot_of_cell in the .cpp). 1/4 B a cell, read with one line,
-  // where a slot a cell took 4 B and missed the cache in a dilute 3D box.
-  struct MarkWord {
-    std::uint64_t cells = 0;
-    std::uint32_t first_slot = 0;
-  };
+  // A cell's slot from its word of marks (slot_of_cell in the .cpp): 1/4 B a cell, read with one
+  // line, where a slot a cell took 4 B and missed the cache in a dilute 3D box.
+  using MarkWord = fluid::MarkWord;
+  // fluid::InStepExchange: the slot of a node listed since the parts' own, and the exchange of a
+  // run of slots (node_velocities).
+  std::uint32_t other_slot(long cell) const override;
+  const double* exchange(std::uint32_t first_slot, long count, const fluid::DensityMomentum* fluid) override;
   // Every listed node, slot by slot (part k's from base[k] on): the node, the total mass and
   // momentum of its particles, the velocity its particles are compared with (u*, or the fluid's u
   // for the pairwise rule), and what its fluid gains. The fluid read there is used as it is read,
@@ -188,6 +207,12 @@ class MomentumExchange {
   template <bool kSlotsFromMarks>
   void sum_particles(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum,
                      const std::vector<char>* anchored);
+  // An exchange's start: the listing kept (its moves applied) or made afresh, for `dimension`
+  // components a vector.
+  void begin_listing(int dimension, int parts, parallel::ThreadPool* pool, bool anchors);
+  // The part's nodes listed (after a fresh listing) and their particles summed.
+  void sum_part(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum,
+                const std::vector<char>* anchored);
   // Zeroes the sums of slots [first, first + count).
   void zero_sums(long first, long count);
   // Whether the last listing can be kept for an exchange in `parts` parts: the common-velocity
@@ -250,6 +275,7 @@ class MomentumExchange {
   // Their cells and slots, (cell + 1) << 32 | slot, by open addressing (linear probing, at most
   // half full: extra_slots_ <= listed_slots_ / kRelistDivisor); 0 is an empty entry.
   std::vector<std::uint64_t> extra_table_;
+  std::vector<std::uint64_t> extra_marks_;  // per cell a bit: a node in extra_table_ is there
   std::vector<MarkWord> marks_;          // per cell a bit: a node of the last listing is there
   std::vector<long> block_count_;        // per block of cells: particles there at the last exchange
   std::vector<Part> parts_;
@@ -347,32 +373,26 @@ template <class Fluid>
 void MomentumExchange::compute(const std::vector<double>& mass, const solid::ParticleVectors& momentum,
                                const Fluid& fluid, parallel::ThreadPool* pool, int parts,
                                const std::vector<char>* anchored) {
-  slots_.dimension = momentum.dimension;
-  anchors_present_ = anchored != nullptr;
-  long moves = 0;
-  relisted_ = !keep_listing(pool ? parts : 1, pool, moves);
-  if (relisted_) {
-    relist(pool ? parts : 1, pool);
-  } else {
-    if (part_changed_) sort_by_part(pool);  // some particle moved to another part's cells
-    zero_sums(listed_slots_, extra_slots_);
-  }
-  slot_.resize(cell_.size());
-  if (rule_ == ExchangeRule::kPairwise) pairwise_dp_.resize(cell_.size());
+  begin_listing(momentum.dimension, pool ? parts : 1, pool, anchored != nullptr);
   for_parts(pool, [&](int k) {
     const Part& part = parts_[k];
-    if (relisted_) {
-      list_nodes(part);
-      sum_particles<true>(part, mass, momentum, anchored);
-    } else {
-      zero_sums(part.base, part.count);
-      sum_particles<false>(part, mass, momentum, anchored);
-    }
+    sum_part(part, mass, momentum, anchored);
     read_and_compare(fluid, part.base, part.count);
     if (rule_ == ExchangeRule::kPairwise) pairwise_gains(part, mass, momentum);
   });
   // The nodes listed since the parts' own, summed above by the parts their cells are in.
   for_extra_slots(pool, [&](long first, long count) { read_and_compare(fluid, first, count); });
+}
+
+template <class Fluid>
+void MomentumExchange::step_fluid(Fluid& fluid) {
+  if (rule_ != ExchangeRule::kCommonVelocity || !fluid.can_exchange_in_step())
+    throw std::logic_error("MomentumExchange::step_fluid: this exchange cannot be done inside the fluid's step");
+  if (parts_used_ > 0 && slots_.dimension != Fluid::D)
+    throw std::logic_error("MomentumExchange::step_fluid: the solid's dimension is not the fluid's");
+  marks = marks_.data();
+  other_marks = extra_slots_ > 0 ? extra_marks_.data() : nullptr;
+  fluid.step_exchanging(*this);
 }
 
 template <class Fluid>

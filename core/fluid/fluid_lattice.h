@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "fluid/fluid_config.h"
+#include "fluid/in_step_exchange.h"
 #include "fluid/node_exchange_types.h"
 #include "fluid/population_storage.h"
 #include "fluid/row_plan.h"
@@ -75,6 +76,13 @@ class FluidLattice {
 
   void step();
   void run(long steps);
+  // Whether step_exchanging() applies: in place, in arrays, and every population stored as it is
+  // (no wall rule with a scale or a correction: moving walls, inlets and outlets have them).
+  bool can_exchange_in_step() const { return exchange_in_step_; }
+  // step() with `exchange` done at its nodes inside it (in_step_exchange.h), in place of
+  // gather_momenta before step() and add_momenta after it; the fluid and the nodes' readings then
+  // agree with those to round-off. Throws std::logic_error where can_exchange_in_step() is false.
+  void step_exchanging(InStepExchange& exchange);
   // MODEL.md eq. 12: adds w_i (c_i . dp) / c_s^2 to the post-collision populations that node
   // (x, y, z) produced in the step just taken, before they arrive downstream. The node's momentum
   // grows by exactly dp and its mass is unchanged. Call between step() and the next step().
@@ -150,7 +158,14 @@ class FluidLattice {
     std::array<T, L::Q> scale;
     bool plain;  // every scale 1
   };
-  InjectionSlots injection_slots(const PullSources<T, L::Q>& sources) const;
+  // `local`: the step that stored them was a local (even) in-place step.
+  InjectionSlots injection_slots(const PullSources<T, L::Q>& sources, bool local) const;
+  // add_momentum at cell c through slots of a known layout (dp: D values).
+  template <bool kBlocks>
+  LBSOLID_FORCE_INLINE void add_at(T* f, const InjectionSlots& slots, long c, const double* dp) const;
+  // A part of a step's report of finished cells: the exchange at each of its nodes.
+  class StepNodes;
+  bool exchange_in_step_allowed() const;
   // The batched calls ask for a later node's populations while they work on this one: a lone
   // node's Q populations lie in Q arrays, Q cache misses that would otherwise be waited for one
   // node at a time (3D suspension, 1 thread: the exchange 105-117 -> 45-48 ns a particle). Not in
@@ -214,9 +229,11 @@ class FluidLattice {
   template <class Density, class Velocity>
   void write_equilibrium(const Density& density, const Velocity& velocity, bool uniform);
   void check_in_place_slot(long cell) const;  // one cell's populations (throws if a rule breaks)
+  // One step (with `exchange` inside it, when given).
+  void step_with(InStepExchange* exchange);
   // One step's fused kernels with the given collision policy (bgk_collision.h and siblings).
   template <class Collision>
-  void launch();
+  void launch(InStepExchange* exchange);
   // add_momenta and gather_momenta for a known layout.
   template <bool kBlocks>
   void add_momenta_in(const NodeIndex* nodes, const double* dp, long count);
@@ -231,6 +248,7 @@ class FluidLattice {
   bool has_force_;
   RowPlans<L, T> plans_;
   PopulationStorage<T> storage_;
+  bool exchange_in_step_;
   int current_ = 0;       // two-buffer: the buffer holding time t
   bool pulled_ = true;    // in-place: true when the next step is an odd (pulling) step
   long steps_ = 0;

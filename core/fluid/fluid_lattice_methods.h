@@ -6,6 +6,7 @@
 #include "fluid/fluid_lattice.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -50,6 +51,7 @@ FluidLattice<L, T>::FluidLattice(const FluidConfig& config, std::shared_ptr<para
       has_force_(any_force(config)),
       plans_(config),
       storage_(config.streaming == StreamingScheme::kInPlace ? 1 : 2, Q, cells_, chosen_layout(config_)),
+      exchange_in_step_(exchange_in_step_allowed()),
       owns_pool_(pool == nullptr),
       pool_(owns_pool_ ? std::make_shared<parallel::ThreadPool>(config_.threads) : std::move(pool)) {
   if (in_place()) check_in_place_slots();
@@ -271,8 +273,92 @@ void FluidLattice<L, T>::write_equilibrium(const Density& density, const Velocit
 }
 
 template <class L, class T>
+bool FluidLattice<L, T>::exchange_in_step_allowed() const {
+  if (!in_place() || blocks()) return false;
+  // Every population a step stores as it is: what the exchange reads there is f*_i itself.
+  const auto plain = [](const PullSources<T, Q>& sources) {
+    for (const auto& s : sources)
+      if (s.scale != T(1) || s.correction != T(0)) return false;
+    return true;
+  };
+  const long rows = static_cast<long>(config_.ny) * config_.nz;
+  for (long row = 0; row < rows; ++row)
+    for (int part = 0; part < 3; ++part)
+      if (!plain(plans_.sources(row, part))) return false;
+  return true;
+}
+
+// The nodes among the cells a part of a step reports finished: each node's fluid read from the
+// populations just stored (in_step_exchange.h), and its gain added there.
+template <class L, class T>
+class FluidLattice<L, T>::StepNodes final : public FinishedCells {
+ public:
+  // `local`: the step is a local (even) in-place step.
+  StepNodes(const FluidLattice& fluid, InStepExchange& exchange, T* f, bool local)
+      : FinishedCells(exchange.marks, exchange.other_marks), fluid_(fluid), exchange_(exchange), f_(f), local_(local) {}
+
+ private:
+  void nodes(long word_first, std::uint64_t bits, std::uint32_t first_slot) override {
+    long count = 0;
+    for (std::uint64_t b = bits; b != 0; b &= b - 1) read_[count++] = read(word_first + __builtin_ctzll(b));
+    const double* gain = exchange_.exchange(first_slot, count, read_);
+    count = 0;
+    for (std::uint64_t b = bits; b != 0; b &= b - 1) add(word_first + __builtin_ctzll(b), gain + D * count++);
+  }
+  void other_node(long cell) override {
+    const DensityMomentum fluid = read(cell);
+    add(cell, exchange_.exchange(exchange_.other_slot(cell), 1, &fluid));
+  }
+
+  // The node's fluid from its post-collision populations.
+  DensityMomentum read(long cell) {
+    // A row's nodes come together: its plan is looked up (two divisions) once, and the slots
+    // worked out again only where the sources differ (the edge cells; rows share their interior's).
+    const long nx = fluid_.config_.nx;
+    if (cell < row_first_ || cell >= row_first_ + nx) {
+      row_ = cell / nx;
+      row_first_ = row_ * nx;
+      plan_ = &fluid_.plans_.for_row(row_);
+      part_ = -1;
+    }
+    if (const int part = RowPlans<L, T>::part_of(static_cast<int>(cell - row_first_), static_cast<int>(nx)); part != part_) {
+      part_ = part;
+      const auto& sources = fluid_.plans_.sources(row_, part);
+      if (&sources != sources_) {
+        slots_ = fluid_.injection_slots(sources, local_);
+        sources_ = &sources;
+      }
+    }
+    std::array<T, Q> stored;
+    for (int i = 0; i < Q; ++i) stored[i] = f_[cell + slots_.offset[i]];
+    DensityMomentum fluid = fluid_.density_momentum_of(stored, *plan_);
+    // The collision added F to sum_i f_i c_i; density_momentum_of added F/2 more.
+    if (fluid_.has_force_)
+      for (int a = 0; a < 3; ++a) fluid.momentum[a] -= plan_->force[a];
+    return fluid;
+  }
+  // Its gain (D values), through the slots read() last worked out: the cells of one row part.
+  void add(long cell, const double* gain) {
+    if (RowPlans<L, T>::part_of(static_cast<int>(cell - row_first_), fluid_.config_.nx) != part_) read(cell);
+    fluid_.add_at<false>(f_, slots_, cell, gain);
+  }
+
+  const FluidLattice& fluid_;
+  InStepExchange& exchange_;
+  T* f_;
+  bool local_;
+  DensityMomentum read_[64];  // a word's nodes' fluid
+  // The row of the last node and its first cell (none yet: no cell is within nx of it).
+  long row_ = -1, row_first_ = -(1L << 62);
+  const RowPlan<T, Q>* plan_ = nullptr;
+  int part_ = -1;
+  const PullSources<T, Q>* sources_ = nullptr;
+  InjectionSlots slots_{};
+};
+
+template <class L, class T>
 template <class Collision>
-void FluidLattice<L, T>::launch() {
+void FluidLattice<L, T>::launch(InStepExchange* exchange) {
   const typename Collision::Rates rates = Collision::rates(config_);
   const T rho0 = static_cast<T>(config_.rho0);
   const long rows = static_cast<long>(config_.ny) * config_.nz;
@@ -302,16 +388,22 @@ void FluidLattice<L, T>::launch() {
     } else if (pulled_) {
       T* f = storage_.buffer(0);
       pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
+        std::optional<StepNodes> nodes;  // each part its own: they keep the slots last worked out
+        if (exchange) nodes.emplace(*this, *exchange, f, /*local=*/false);
+        FinishedCells* finished = nodes ? &*nodes : nullptr;
         run_with_isa(isa, [&]<KernelIsa I>(IsaTag<I>) LBSOLID_FORCE_INLINE_LAMBDA {
           stream_collide_in_place_rows<L, T, Collision, kForce, shifted_pull_lanes<T>(I)>(plans, f, stride, nx, begin,
-                                                                                         end, rates, rho0);
+                                                                                         end, rates, rho0, finished);
         });
       });
     } else {
       T* f = storage_.buffer(0);
       pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
+        std::optional<StepNodes> nodes;
+        if (exchange) nodes.emplace(*this, *exchange, f, /*local=*/true);
+        FinishedCells* finished = nodes ? &*nodes : nullptr;
         run_with_isa(isa, [&]() LBSOLID_FORCE_INLINE_LAMBDA {
-          collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0);
+          collide_local_rows<L, T, Collision, kForce>(plans, f, stride, nx, begin, end, rates, rho0, finished);
         });
       });
     }
@@ -388,12 +480,24 @@ void FluidLattice<L, T>::launch_blocks() {
 
 template <class L, class T>
 void FluidLattice<L, T>::step() {
+  step_with(nullptr);
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::step_exchanging(InStepExchange& exchange) {
+  if (!exchange_in_step_)
+    throw std::logic_error("FluidLattice::step_exchanging: this fluid cannot exchange inside its step");
+  step_with(&exchange);
+}
+
+template <class L, class T>
+void FluidLattice<L, T>::step_with(InStepExchange* exchange) {
   // The collision is chosen here, once per step: each policy gets its own kernels, so BGK runs
   // exactly the code it ran before the other operators existed.
   switch (config_.collision) {
-    case CollisionModel::kBgk: launch<BgkCollision<L, T>>(); break;
-    case CollisionModel::kTrt: launch<TrtCollision<L, T>>(); break;
-    case CollisionModel::kRegularized: launch<RegularizedCollision<L, T>>(); break;
+    case CollisionModel::kBgk: launch<BgkCollision<L, T>>(exchange); break;
+    case CollisionModel::kTrt: launch<TrtCollision<L, T>>(exchange); break;
+    case CollisionModel::kRegularized: launch<RegularizedCollision<L, T>>(exchange); break;
   }
   if (in_place()) {
     pulled_ = !pulled_;
@@ -450,7 +554,8 @@ typename FluidLattice<L, T>::Slot FluidLattice<L, T>::slot(int i, int x, int y, 
 }
 
 template <class L, class T>
-typename FluidLattice<L, T>::InjectionSlots FluidLattice<L, T>::injection_slots(const PullSources<T, L::Q>& sources) const {
+typename FluidLattice<L, T>::InjectionSlots FluidLattice<L, T>::injection_slots(const PullSources<T, L::Q>& sources,
+                                                                                bool local) const {
   constexpr auto opp = lattice::opposite_table<L>();
   InjectionSlots slots;
   slots.delta.fill(0);
@@ -462,7 +567,7 @@ typename FluidLattice<L, T>::InjectionSlots FluidLattice<L, T>::injection_slots(
     // odd one wrote it into the slot it had read population opp(i) from.
     if (!in_place()) {
       slots.array[i] = i;
-    } else if (pulled_) {
+    } else if (local) {
       slots.array[i] = opp[i];
     } else {
       const auto& s = sources[opp[i]];
@@ -505,42 +610,47 @@ void FluidLattice<L, T>::add_momenta_in(const NodeIndex* nodes, const double* dp
     if (const long row = y + static_cast<long>(config_.ny) * z; 3 * row + part != row_part) {
       // Rows share their interior's sources: the slots are worked out again only where they differ.
       if (const auto& sources = plans_.sources_of_part(y, z, part); &sources != slots_from) {
-        slots = injection_slots(sources);
+        slots = injection_slots(sources, /*local=*/pulled_);  // after a local step, pulled_ is set
         slots_from = &sources;
       }
       row_part = 3 * row + part;
     }
     if (prefetch && k + kPrefetchAhead < count) prefetch_node<kBlocks>(f, nodes[k + kPrefetchAhead], slots, /*for_write=*/true);
-    const long c = cell(x, y, z);
-    // Direction by direction at compile time, a pair of opposite directions at a time: c_j = -c_i
-    // and w_j = w_i, so j's term is exactly the negation of i's (rounding is symmetric), and the
-    // division by c_s^2 (not a power of two on D3Q19) is paid once a pair. Zero velocity
-    // components and the rest population (c = 0: it gains nothing) cost nothing (lattice::add_c).
-    constexpr auto opp = lattice::opposite_table<L>();
-    [&]<int... I>(std::integer_sequence<int, I...>) {
-      ([&] {
-        constexpr int J = opp[I];
-        if constexpr (J > I) {
-          static_assert(L::w[J] == L::w[I] && L::c[J][0] == -L::c[I][0] && L::c[J][1] == -L::c[I][1] &&
-                        L::c[J][2] == -L::c[I][2]);
-          double c_dot_dp = 0;
-          c_dot_dp = lattice::add_c<L, I, 0>(c_dot_dp, dp[D * k]);
-          c_dot_dp = lattice::add_c<L, I, 1>(c_dot_dp, dp[D * k + 1]);
-          if constexpr (D == 3) c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[D * k + 2]);
-          const double term = L::w[I] * c_dot_dp / L::cs2;
-          T& to_i = f[slot_index<kBlocks>(slots, I, c)];
-          T& to_j = f[slot_index<kBlocks>(slots, J, c)];
-          if (slots.plain) {  // x * 1 is x
-            to_i += static_cast<T>(term);
-            to_j += static_cast<T>(-term);
-          } else {
-            to_i += static_cast<T>(term) * slots.scale[I];
-            to_j += static_cast<T>(-term) * slots.scale[J];
-          }
-        }
-      }(), ...);
-    }(std::make_integer_sequence<int, Q>{});
+    add_at<kBlocks>(f, slots, cell(x, y, z), dp + D * k);
   }
+}
+
+template <class L, class T>
+template <bool kBlocks>
+void FluidLattice<L, T>::add_at(T* f, const InjectionSlots& slots, long c, const double* dp) const {
+  // Direction by direction at compile time, a pair of opposite directions at a time: c_j = -c_i
+  // and w_j = w_i, so j's term is exactly the negation of i's (rounding is symmetric), and the
+  // division by c_s^2 (not a power of two on D3Q19) is paid once a pair. Zero velocity
+  // components and the rest population (c = 0: it gains nothing) cost nothing (lattice::add_c).
+  constexpr auto opp = lattice::opposite_table<L>();
+  [&]<int... I>(std::integer_sequence<int, I...>) {
+    ([&] {
+      constexpr int J = opp[I];
+      if constexpr (J > I) {
+        static_assert(L::w[J] == L::w[I] && L::c[J][0] == -L::c[I][0] && L::c[J][1] == -L::c[I][1] &&
+                      L::c[J][2] == -L::c[I][2]);
+        double c_dot_dp = 0;
+        c_dot_dp = lattice::add_c<L, I, 0>(c_dot_dp, dp[0]);
+        c_dot_dp = lattice::add_c<L, I, 1>(c_dot_dp, dp[1]);
+        if constexpr (D == 3) c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[2]);
+        const double term = L::w[I] * c_dot_dp / L::cs2;
+        T& to_i = f[slot_index<kBlocks>(slots, I, c)];
+        T& to_j = f[slot_index<kBlocks>(slots, J, c)];
+        if (slots.plain) {  // x * 1 is x
+          to_i += static_cast<T>(term);
+          to_j += static_cast<T>(-term);
+        } else {
+          to_i += static_cast<T>(term) * slots.scale[I];
+          to_j += static_cast<T>(-term) * slots.scale[J];
+        }
+      }
+    }(), ...);
+  }(std::make_integer_sequence<int, Q>{});
 }
 
 template <class L, class T>

@@ -11,10 +11,14 @@
 //              even step finds the population arriving downstream. The wall rules are involutions,
 //              so the slots a cell reads are exactly the slots it writes and cells never collide
 //              (FluidLattice checks this once per configuration).
+//
+// Given a FinishedCells (in_step_exchange.h), each kernel reports the cells whose post-collision
+// populations are stored for good, a row (or part of one) at a time, as soon as it can.
 #include <type_traits>
 
 #include "fluid/cell_update.h"
 #include "fluid/force_inline.h"
+#include "fluid/in_step_exchange.h"
 #include "fluid/kernel_isa.h"
 #include "fluid/shifted_pull.h"
 #include "fluid/line_aligned_parts.h"
@@ -25,7 +29,8 @@ namespace lbsolid::fluid {
 
 template <class L, class T, class Collision, bool kForce>
 LBSOLID_FORCE_INLINE void collide_local_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
-                        long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
+                        long row_begin, long row_end, typename Collision::Rates rates, T rho0,
+                        FinishedCells* finished = nullptr) {
   constexpr int Q = L::Q;
   constexpr auto opp = lattice::opposite_table<L>();
   const T* in[Q];
@@ -40,9 +45,14 @@ LBSOLID_FORCE_INLINE void collide_local_rows(const RowPlans<L, T>& plans, T* f, 
     const long last = plans.last_row_sharing_force(first, row_end);
     const RowPlan<T, Q>& plan = plans.for_row(first);
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
-    for_line_aligned_parts<T>(first * nx, (last + 1) * nx, [&](long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
-      update_cells<L, T, Collision, kForce, false>(in, no_wall, out, no_wall, force, rates, rho0, begin, end);
-    });
+    // Reporting, row by row (each reported while its lines are in the cache); else the run at once.
+    const long piece = finished ? nx : (last + 1 - first) * nx;
+    for (long at = first * nx; at < (last + 1) * nx; at += piece) {
+      for_line_aligned_parts<T>(at, at + piece, [&](long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
+        update_cells<L, T, Collision, kForce, false>(in, no_wall, out, no_wall, force, rates, rho0, begin, end);
+      });
+      if (finished) (*finished)(at, at + piece);
+    }
     first = last + 1;
   }
 }
@@ -105,11 +115,14 @@ bool edges_read_at_joins(const InPlacePull<L, T>& line, const InPlacePull<L, T> 
 
 // The shifted sweep of the joined rows [first, last] over [vector_begin, vector_end), which must
 // hold every join's two cells, copying their inputs just before it reaches them: line cell
-// (nx - 1, r)'s into at_last[k][r - first], (0, r + 1)'s into at_first[k][r + 1 - first].
+// (nx - 1, r)'s into at_last[k][r - first], (0, r + 1)'s into at_first[k][r + 1 - first]. Reports
+// the interior cells of rows first .. last - 2 as the sweep passes them (the cells before each
+// join are done when it gets there).
 template <class L, class T, bool kForce, int kLanes, long kRunRows>
 LBSOLID_FORCE_INLINE void sweep_copying_joins(const InPlacePull<L, T>& line, const T (&force)[3], T omega, T rho0,
                                               int nx, long first, long last, long vector_begin, long vector_end,
-                                              T (&at_last)[L::Q][kRunRows], T (&at_first)[L::Q][kRunRows]) {
+                                              T (&at_last)[L::Q][kRunRows], T (&at_first)[L::Q][kRunRows],
+                                              FinishedCells* finished) {
   using Shifted = ShiftedPull<L, T, kLanes>;
   long done = vector_begin;
   for (long r = first; r < last; ++r) {
@@ -119,6 +132,7 @@ LBSOLID_FORCE_INLINE void sweep_copying_joins(const InPlacePull<L, T>& line, con
       Shifted::template run<kForce>(line.in, line.out, force, omega, rho0, done, before);
       done = before;
     }
+    if (finished && r > first) (*finished)((r - 1) * nx + 1, r * nx - 1);
     for (int k = 0; k < L::Q; ++k) {
       at_last[k][r - first] = line.in[k][join - 1];
       at_first[k][r + 1 - first] = line.in[k][join];
@@ -140,7 +154,7 @@ LBSOLID_FORCE_INLINE void sweep_copying_joins(const InPlacePull<L, T>& line, con
 // from slots nothing has written yet, into a buffer, and written over what the line left there.
 template <class L, class T, class Collision, bool kForce, int kLanes, long kRunRows>
 LBSOLID_FORCE_INLINE bool pull_joined_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx, long first,
-                                           long last, T omega, T rho0) {
+                                           long last, T omega, T rho0, FinishedCells* finished) {
   constexpr int Q = L::Q;
   using Shifted = ShiftedPull<L, T, kLanes>;
   const RowPlan<T, Q>& plan = plans.for_row(first);
@@ -202,7 +216,7 @@ LBSOLID_FORCE_INLINE bool pull_joined_rows(const RowPlans<L, T>& plans, T* f, lo
       Shifted::template span<kForce>(line.in, line.out, force, omega, rho0, begin, vector_begin);
       if (from_joins) {
         sweep_copying_joins<L, T, kForce, kLanes, kRunRows>(line, force, omega, rho0, nx, first, last, vector_begin,
-                                                            vector_end, at_last, at_first);
+                                                            vector_end, at_last, at_first, finished);
         // The edge cells of rows first + 1 .. last - 1 (n of them, at least W), W rows at a time.
         const long n = last - first - 1;
         for (int side = 0; side < 2; ++side) {
@@ -219,6 +233,8 @@ LBSOLID_FORCE_INLINE bool pull_joined_rows(const RowPlans<L, T>& plans, T* f, lo
         Shifted::template run<kForce>(line.in, line.out, force, omega, rho0, vector_begin, vector_end);
       }
       Shifted::template span<kForce>(line.in, line.out, force, omega, rho0, vector_end, end);
+      if (finished && from_joins)  // the interior cells the sweep did not report
+        for (long row = last - 1; row <= last; ++row) (*finished)(row * nx + 1, row * nx + nx - 1);
     }
   } else {
     update_cells<L, T, Collision, kForce, false>(line.in, line.in_map, line.out, line.out_map, force, omega, rho0, begin,
@@ -232,12 +248,24 @@ LBSOLID_FORCE_INLINE bool pull_joined_rows(const RowPlans<L, T>& plans, T* f, lo
       const long cell = row * nx + (side == 0 ? 0 : nx - 1);
       for (int k = 0; k < Q; ++k) edges[side].out[k][cell] = edge[side][k][row - first];
     }
+  if (finished) {  // the edge cells, or (not swept row by row) the whole rows
+    const bool reported_interior = kVectorEnds && from_joins;
+    for (long row = first; row <= last; ++row) {
+      if (reported_interior) {
+        (*finished)(row * nx, row * nx + 1);
+        (*finished)(row * nx + nx - 1, row * nx + nx);
+      } else {
+        (*finished)(row * nx, row * nx + nx);
+      }
+    }
+  }
   return true;
 }
 
 template <class L, class T, class Collision, bool kForce, int kLanes = 0>
 LBSOLID_FORCE_INLINE void stream_collide_in_place_rows(const RowPlans<L, T>& plans, T* f, long stride, int nx,
-                                  long row_begin, long row_end, typename Collision::Rates rates, T rho0) {
+                                  long row_begin, long row_end, typename Collision::Rates rates, T rho0,
+                                  FinishedCells* finished = nullptr) {
   constexpr bool kShifted =
       kLanes > 0 && std::is_same_v<Collision, BgkCollision<L, T>> && ShiftedPull<L, T, kLanes>::kLatticeFits;
   // Bounds the edge buffer: kRunRows x 2 x Q values (19 KB for D3Q19 double). D3Q19's rows are
@@ -251,7 +279,8 @@ LBSOLID_FORCE_INLINE void stream_collide_in_place_rows(const RowPlans<L, T>& pla
       if (plans.x_periodic() && nx > 2) {
         last = std::min(plans.last_row_sharing_plan(first, row_end), first + kRunRows - 1);
         if (last - first + 1 >= kFewestRows &&
-            pull_joined_rows<L, T, Collision, kForce, kLanes, kRunRows>(plans, f, stride, nx, first, last, rates, rho0)) {
+            pull_joined_rows<L, T, Collision, kForce, kLanes, kRunRows>(plans, f, stride, nx, first, last, rates, rho0,
+                                                                        finished)) {
           first = last + 1;
           continue;
         }
@@ -269,6 +298,7 @@ LBSOLID_FORCE_INLINE void stream_collide_in_place_rows(const RowPlans<L, T>& pla
       sweep(0, row_start, row_start + 1);
       if (nx > 2) sweep(1, row_start + 1, row_start + nx - 1);
       if (nx > 1) sweep(2, row_start + nx - 1, row_start + nx);
+      if (finished) (*finished)(row_start, row_start + nx);
     }
     first = last + 1;
   }

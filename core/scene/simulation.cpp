@@ -73,7 +73,11 @@ class SimulationImpl final : public Simulation {
             forces_->add_point_load(particle_of.at(point.label), point.force);
         }
       }
-      if (fluid_) coupling_ = std::make_unique<CouplingState>(scene, solid_->particle_count(), rotating);
+      if (fluid_) {
+        coupling_ = std::make_unique<CouplingState>(scene, solid_->particle_count(), rotating);
+        coupling_->in_step =
+            fluid_->can_exchange_in_step() && coupling_->exchange.rule() == coupling::ExchangeRule::kCommonVelocity;
+      }
       if (rotating) torque_ = std::make_unique<TorqueRecord>(solid_->particle_count(), solid_->body_count());
       if (solid_->any_anchored()) anchors_ = std::make_unique<AnchorRecord>(solid_->particle_count());
       if (scene.contact.enabled) {

@@ -25,6 +25,9 @@ struct CouplingState {
 
   coupling::MomentumExchange exchange;
   bool rotating;                          // some body's springs turn with it
+  // The fluid is read and given its momentum inside its step (MomentumExchange::step_fluid)
+  // rather than before and after it: where the fluid and the rule allow (set by the simulation).
+  bool in_step = false;
   std::vector<coupling::Node> node;       // rotating: each particle's node, from the last locate
   std::vector<double> momenta_at_nodes;   // rotating: what the exchange compared, as the solid stores vectors
 };

@@ -1,6 +1,7 @@
 #pragma once
 // The exchange (MODEL.md section 3): each particle's nearest node, then the momentum exchange
-// against the nodes' pre-collision fluid, in the simulation's parts.
+// against the nodes' pre-collision fluid, in the simulation's parts (its fluid's part inside the
+// fluid's step where that is done: CouplingState::in_step).
 #include <cmath>
 #include <string>
 #include <vector>
@@ -43,8 +44,12 @@ class ExchangeStage final : public StepStage {
           &pool_, parts);
     }
     clock.lap(Stage::kLocate);
-    coupling_.exchange.compute(solid_.masses(), coupling_.rotating ? momenta_at_nodes() : solid_.momenta(), fluid_,
-                               &pool_, parts, solid_.any_anchored() ? &solid_.anchored_flags() : nullptr);
+    const solid::ParticleVectors momenta = coupling_.rotating ? momenta_at_nodes() : solid_.momenta();
+    const std::vector<char>* anchored = solid_.any_anchored() ? &solid_.anchored_flags() : nullptr;
+    if (coupling_.in_step)  // the fluid's read waits for its step (FluidStage)
+      coupling_.exchange.compute_sums(solid_.masses(), momenta, &pool_, parts, anchored);
+    else
+      coupling_.exchange.compute(solid_.masses(), momenta, fluid_, &pool_, parts, anchored);
     clock.lap(Stage::kExchange);
   }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The fluid's step, then (with bodies) the momentum each coupled node gained in the exchange,
-// added to its post-collision populations (MODEL.md eq. 12).
+// added to its post-collision populations (MODEL.md eq. 12); or, where CouplingState::in_step,
+// the step with the exchange's read and injection at each node inside it.
 #include <string>
 #include <vector>
 
@@ -15,12 +16,17 @@ template <class L, class T>
 class FluidStage final : public StepStage {
  public:
   // `coupling` is null without bodies.
-  FluidStage(fluid::FluidLattice<L, T>& fluid, const CouplingState* coupling, parallel::ThreadPool& pool)
+  FluidStage(fluid::FluidLattice<L, T>& fluid, CouplingState* coupling, parallel::ThreadPool& pool)
       : fluid_(fluid), coupling_(coupling), pool_(pool) {}
 
   std::vector<std::string> names() const override { return {"fluid"}; }
 
   void run(StageClock& clock) override {
+    if (coupling_ && coupling_->in_step) {  // the exchange's read and injection inside the step
+      coupling_->exchange.step_fluid(fluid_);
+      clock.lap(Stage::kFluid);
+      return;
+    }
     fluid_.step();
     clock.lap(Stage::kFluid);
     if (!coupling_) return;
@@ -32,7 +38,7 @@ class FluidStage final : public StepStage {
 
  private:
   fluid::FluidLattice<L, T>& fluid_;
-  const CouplingState* coupling_;
+  CouplingState* coupling_;
   parallel::ThreadPool& pool_;
 };
 
