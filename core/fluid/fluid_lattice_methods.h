@@ -387,7 +387,7 @@ void FluidLattice<L, T>::launch(InStepExchange* exchange) {
       });
     } else if (pulled_) {
       T* f = storage_.buffer(0);
-      pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
+      for_row_parts(exchange, [&](long begin, long end) {
         std::optional<StepNodes> nodes;  // each part its own: they keep the slots last worked out
         if (exchange) nodes.emplace(*this, *exchange, f, /*local=*/false);
         FinishedCells* finished = nodes ? &*nodes : nullptr;
@@ -398,7 +398,7 @@ void FluidLattice<L, T>::launch(InStepExchange* exchange) {
       });
     } else {
       T* f = storage_.buffer(0);
-      pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
+      for_row_parts(exchange, [&](long begin, long end) {
         std::optional<StepNodes> nodes;
         if (exchange) nodes.emplace(*this, *exchange, f, /*local=*/true);
         FinishedCells* finished = nodes ? &*nodes : nullptr;
@@ -413,6 +413,41 @@ void FluidLattice<L, T>::launch(InStepExchange* exchange) {
   } else {
     run_kernel(std::false_type{});
   }
+}
+
+template <class L, class T>
+template <class Work>
+void FluidLattice<L, T>::for_row_parts(const InStepExchange* exchange, const Work& work) {
+  const long rows = static_cast<long>(config_.ny) * config_.nz;
+  const int parts = config_.threads;
+  if (!exchange || parts == 1) {
+    pool_->parallel_for(rows, parts, work);
+    return;
+  }
+  // The weight of rows [0, r) for each r: cells, plus kNodeCells a node (a word's marks at a time;
+  // a word a row's end cuts is counted at the row it ends in, close enough to balance).
+  const long nx = config_.nx;
+  std::vector<long> before(static_cast<std::size_t>(rows) + 1, 0);
+  long nodes = 0;
+  long word = 0;
+  const long words = (cells_ + 63) / 64;
+  for (long r = 0; r < rows; ++r) {
+    for (const long end_word = std::min(words, ((r + 1) * nx + 63) / 64); word < end_word; ++word) {
+      nodes += __builtin_popcountll(exchange->marks[word].cells);
+      if (exchange->other_marks) nodes += __builtin_popcountll(exchange->other_marks[word]);
+    }
+    before[r + 1] = (r + 1) * nx + kNodeCells * nodes;
+  }
+  std::vector<long> bounds(static_cast<std::size_t>(parts) + 1, rows);
+  bounds[0] = 0;
+  for (int k = 1; k < parts; ++k) {
+    const long share = before[rows] / parts * k;
+    bounds[k] = std::max(bounds[k - 1], static_cast<long>(std::lower_bound(before.begin(), before.end(), share) - before.begin()));
+  }
+  pool_->parallel_for(parts, parts, [&](long first, long end) {
+    for (long k = first; k < end; ++k)
+      if (bounds[k] < bounds[k + 1]) work(bounds[k], bounds[k + 1]);
+  });
 }
 
 template <class L, class T>
