@@ -1,7 +1,7 @@
-// A measurement, not part of the build (what it led to, the exchange inside the kernels, did not
-// gain in the scenes and is not in the tree: docs/performance.md, "Not kept: the exchange inside
-// the kernels"): what the 3D scene's exchange costs when it is done inside the fluid's step, row
-// by row while a row's populations are still in the L1 cache, against the way the tree does it (a read of each coupled node's pre-collision fluid before the step, and the
+// A measurement, not part of the build (what it led to is the fluid's own since: the exchange
+// inside the kernels, fluid/in_step_exchange.h; docs/performance.md): what the 3D scene's
+// exchange costs when it is done inside the fluid's step, row by row while a row's populations
+// are still in the L1 cache, against the way the tree did it (a read of each coupled node's pre-collision fluid before the step, and the
 // gain added to its post-collision populations after it: two passes over lines long evicted).
 //
 // A D3Q19 box of n^3 cells in 19 arrays, double, BGK, no force, stepped in place (AA pattern):
