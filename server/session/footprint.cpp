@@ -118,9 +118,11 @@ Footprint estimate_footprint(const v1::Scenario& scenario) {
   const int value_bytes = scenario.precision() == v1::PRECISION_FLOAT ? 4 : 8;
   const long long populations = saturating_product(buffers * q, population_array_bytes(f.cells, value_bytes));
   // The exchange's marks (16 B a word of 64 cells: a quarter of a byte a cell, one word more
-  // for the last cells) and its balancing counts.
+  // for the last cells), the marks of the nodes listed since a listing (a bit a cell, once a
+  // particle moves to a node not listed) and its balancing counts.
   constexpr long long kBalanceBytes = (coupling::MomentumExchange::kBalanceBlocks + 1) * sizeof(long);
-  const long long exchange_cells = f.particles > 0 ? saturating_sum(f.cells / 4 + 16, kBalanceBytes) : 0;
+  const long long exchange_cells =
+      f.particles > 0 ? saturating_sum(f.cells / 4 + 16 + f.cells / 8 + 8, kBalanceBytes) : 0;
   const bool rotating = std::any_of(scenario.bodies().begin(), scenario.bodies().end(),
                                     [](const v1::Body& body) { return body.rotation(); });
   const bool particle_forces = std::any_of(scenario.bodies().begin(), scenario.bodies().end(), [](const v1::Body& body) {
