@@ -215,13 +215,18 @@ void MomentumExchange::compute_sums(const std::vector<double>& mass, const solid
   for_parts(pool, [&](int k) { sum_part(parts_[k], mass, momentum, anchored); });
 }
 
-std::uint32_t MomentumExchange::other_slot(long cell) const {
-  const std::uint64_t key = static_cast<std::uint64_t>(cell) + 1;
+std::size_t MomentumExchange::extra_table_entry(CellIndex c) const {
+  const std::uint64_t key = static_cast<std::uint64_t>(c) + 1;
   const std::size_t mask = extra_table_.size() - 1;
-  for (std::size_t at = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> 32) & mask; extra_table_[at] != 0;
-       at = (at + 1) & mask)
-    if ((extra_table_[at] >> 32) == key) return static_cast<std::uint32_t>(extra_table_[at]);
-  throw std::logic_error("MomentumExchange: a cell marked as another node's has no slot");
+  std::size_t at = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> 32) & mask;
+  while (extra_table_[at] != 0 && (extra_table_[at] >> 32) != key) at = (at + 1) & mask;
+  return at;
+}
+
+std::uint32_t MomentumExchange::other_slot(long cell) const {
+  const std::uint64_t entry = extra_table_[extra_table_entry(static_cast<CellIndex>(cell))];
+  if (entry == 0) throw std::logic_error("MomentumExchange: a cell marked as another node's has no slot");
+  return static_cast<std::uint32_t>(entry);
 }
 
 const double* MomentumExchange::exchange(std::uint32_t first_slot, long count, const fluid::DensityMomentum* fluid) {
@@ -289,13 +294,10 @@ bool MomentumExchange::keep_listing(int parts, parallel::ThreadPool* pool, long&
 }
 
 std::uint32_t MomentumExchange::extra_slot_of(CellIndex c) {
-  const std::uint64_t key = static_cast<std::uint64_t>(c) + 1;
-  const std::size_t mask = extra_table_.size() - 1;
-  std::size_t at = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> 32) & mask;
-  for (; extra_table_[at] != 0; at = (at + 1) & mask)
-    if ((extra_table_[at] >> 32) == key) return static_cast<std::uint32_t>(extra_table_[at]);
+  const std::size_t at = extra_table_entry(c);
+  if (extra_table_[at] != 0) return static_cast<std::uint32_t>(extra_table_[at]);
   const long s = listed_slots_ + extra_slots_++;
-  extra_table_[at] = key << 32 | static_cast<std::uint32_t>(s);
+  extra_table_[at] = (static_cast<std::uint64_t>(c) + 1) << 32 | static_cast<std::uint32_t>(s);
   if (extra_marks_.empty()) extra_marks_.assign(marks_.size(), 0);
   extra_marks_[c >> 6] |= std::uint64_t{1} << (c & 63);
   if (slots_.size() <= s || static_cast<long>(slots_.momentum.size()) < slots_.dimension * (s + 1))

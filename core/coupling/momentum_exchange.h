@@ -224,6 +224,8 @@ class MomentumExchange final : private fluid::InStepExchange {
   // The slot of cell c, a node not in the last listing, for a particle that moved there: the one
   // it was given after the parts' slots, or a new one.
   std::uint32_t extra_slot_of(CellIndex c);
+  // Where cell c's entry of extra_table_ is, or the empty entry where it would go.
+  std::size_t extra_table_entry(CellIndex c) const;
   // The comparison velocity and gain of the slots [first, first + count), their fluid read in
   // batches.
   template <class Fluid>
