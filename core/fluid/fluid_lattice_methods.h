@@ -17,6 +17,7 @@
 #include "fluid/in_place_kernel.h"
 #include "fluid/kernel_isa.h"
 #include "fluid/regularized_collision.h"
+#include "fluid/step_nodes.h"
 #include "fluid/stream_collide_kernel.h"
 #include "fluid/trt_collision.h"
 
@@ -287,74 +288,6 @@ bool FluidLattice<L, T>::exchange_in_step_allowed() const {
       if (!plain(plans_.sources(row, part))) return false;
   return true;
 }
-
-// The nodes among the cells a part of a step reports finished: each node's fluid read from the
-// populations just stored (in_step_exchange.h), and its gain added there.
-template <class L, class T>
-class FluidLattice<L, T>::StepNodes final : public FinishedCells {
- public:
-  // `local`: the step is a local (even) in-place step.
-  StepNodes(const FluidLattice& fluid, InStepExchange& exchange, T* f, bool local)
-      : FinishedCells(exchange.marks, exchange.other_marks), fluid_(fluid), exchange_(exchange), f_(f), local_(local) {}
-
- private:
-  void nodes(long word_first, std::uint64_t bits, std::uint32_t first_slot) override {
-    long count = 0;
-    for (std::uint64_t b = bits; b != 0; b &= b - 1) read_[count++] = read(word_first + __builtin_ctzll(b));
-    const double* gain = exchange_.exchange(first_slot, count, read_);
-    count = 0;
-    for (std::uint64_t b = bits; b != 0; b &= b - 1) add(word_first + __builtin_ctzll(b), gain + D * count++);
-  }
-  void other_node(long cell) override {
-    const DensityMomentum fluid = read(cell);
-    add(cell, exchange_.exchange(exchange_.other_slot(cell), 1, &fluid));
-  }
-
-  // The node's fluid from its post-collision populations.
-  DensityMomentum read(long cell) {
-    // A row's nodes come together: its plan is looked up (two divisions) once, and the slots
-    // worked out again only where the sources differ (the edge cells; rows share their interior's).
-    const long nx = fluid_.config_.nx;
-    if (cell < row_first_ || cell >= row_first_ + nx) {
-      row_ = cell / nx;
-      row_first_ = row_ * nx;
-      plan_ = &fluid_.plans_.for_row(row_);
-      part_ = -1;
-    }
-    if (const int part = RowPlans<L, T>::part_of(static_cast<int>(cell - row_first_), static_cast<int>(nx)); part != part_) {
-      part_ = part;
-      const auto& sources = fluid_.plans_.sources(row_, part);
-      if (&sources != sources_) {
-        slots_ = fluid_.injection_slots(sources, local_);
-        sources_ = &sources;
-      }
-    }
-    std::array<T, Q> stored;
-    for (int i = 0; i < Q; ++i) stored[i] = f_[cell + slots_.offset[i]];
-    DensityMomentum fluid = fluid_.density_momentum_of(stored, *plan_);
-    // The collision added F to sum_i f_i c_i; density_momentum_of added F/2 more.
-    if (fluid_.has_force_)
-      for (int a = 0; a < 3; ++a) fluid.momentum[a] -= plan_->force[a];
-    return fluid;
-  }
-  // Its gain (D values), through the slots read() last worked out: the cells of one row part.
-  void add(long cell, const double* gain) {
-    if (RowPlans<L, T>::part_of(static_cast<int>(cell - row_first_), fluid_.config_.nx) != part_) read(cell);
-    fluid_.add_at<false>(f_, slots_, cell, gain);
-  }
-
-  const FluidLattice& fluid_;
-  InStepExchange& exchange_;
-  T* f_;
-  bool local_;
-  DensityMomentum read_[64];  // a word's nodes' fluid
-  // The row of the last node and its first cell (none yet: no cell is within nx of it).
-  long row_ = -1, row_first_ = -(1L << 62);
-  const RowPlan<T, Q>* plan_ = nullptr;
-  int part_ = -1;
-  const PullSources<T, Q>* sources_ = nullptr;
-  InjectionSlots slots_{};
-};
 
 template <class L, class T>
 template <class Collision>

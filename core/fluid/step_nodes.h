@@ -1,0 +1,194 @@
+#pragma once
+// FluidLattice's StepNodes: the exchange at the nodes among the cells a part of a step reports
+// finished (in_step_exchange.h). Included by fluid_lattice_methods.h, after FluidLattice.
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <utility>
+
+#include "fluid/fluid_lattice.h"
+#include "fluid/kernel_isa.h"
+#include "lattice/lattice_traits.h"
+
+namespace lbsolid::fluid {
+
+// Each node's fluid is read from the populations just stored, and its gain added there. A run of
+// neighbouring nodes inside a row (no edge cell: they share their slots) is read and given its
+// gains across nodes, a block of kRunBlock at a time in vector registers, on the CPU's
+// instruction set; node by node that was most of the exchange's cost inside the step (scalar
+// loads and sums, about 10 ns a node in 2D). Each node gets the same operations in the same order
+// as read() and add_at() give it alone (no contraction: -ffp-contract=off): the same values, bit
+// for bit.
+template <class L, class T>
+class FluidLattice<L, T>::StepNodes final : public FinishedCells {
+ public:
+  // `local`: the step is a local (even) in-place step.
+  StepNodes(const FluidLattice& fluid, InStepExchange& exchange, T* f, bool local)
+      : FinishedCells(exchange.marks, exchange.other_marks), fluid_(fluid), exchange_(exchange), f_(f), local_(local) {}
+
+ private:
+  static constexpr int kRunBlock = 8;
+
+  void nodes(long word_first, std::uint64_t bits, std::uint32_t first_slot) override {
+    long count = 0;
+    run_with_isa(kernel_isa(), [&]() LBSOLID_FORCE_INLINE_LAMBDA {
+      for_each_run(word_first, bits, [&](long cell, int n, bool interior) LBSOLID_FORCE_INLINE_LAMBDA {
+        if (interior) read_run(cell, n, read_ + count);
+        else
+          for (int k = 0; k < n; ++k) read_[count + k] = read(cell + k);
+        count += n;
+      });
+    });
+    const double* gain = exchange_.exchange(first_slot, count, read_);
+    count = 0;
+    run_with_isa(kernel_isa(), [&]() LBSOLID_FORCE_INLINE_LAMBDA {
+      for_each_run(word_first, bits, [&](long cell, int n, bool interior) LBSOLID_FORCE_INLINE_LAMBDA {
+        if (interior && slots_.plain) add_run(cell, n, gain + D * count);
+        else
+          for (int k = 0; k < n; ++k) add(cell + k, gain + D * (count + k));
+        count += n;
+      });
+    });
+  }
+  void other_node(long cell) override {
+    const DensityMomentum fluid = read(cell);
+    add(cell, exchange_.exchange(exchange_.other_slot(cell), 1, &fluid));
+  }
+
+  // visit(cell, n, interior) for the runs of cells word_first + b, b the set bits of `bits`
+  // (cells of one row), in order: runs of neighbouring cells cut where a row's edge cell begins or
+  // ends one; `interior` when the run's cells are the row's inner cells, whose slots and plan are
+  // then set (locate()).
+  template <class Visit>
+  LBSOLID_FORCE_INLINE void for_each_run(long word_first, std::uint64_t bits, const Visit& visit) {
+    const long nx = fluid_.config_.nx;
+    while (bits != 0) {
+      const int b = __builtin_ctzll(bits);
+      const std::uint64_t from_b = bits >> b;
+      const int length = ~from_b == 0 ? 64 - b : __builtin_ctzll(~from_b);
+      bits = length + b >= 64 ? 0 : bits & (~std::uint64_t{0} << (b + length));
+      long cell = word_first + b;
+      const long end = cell + length;
+      while (cell < end) {
+        locate(cell);
+        const long x = cell - row_first_;
+        const long n = part_ == 1 ? std::min(end - cell, nx - 1 - x) : 1;  // inner cells: up to the last
+        visit(cell, static_cast<int>(n), part_ == 1);
+        cell += n;
+      }
+    }
+  }
+
+  // The row, plan and slots of `cell`'s part of its row. A row's nodes come together: its plan is
+  // looked up (two divisions) once, and the slots worked out again only where the sources differ
+  // (the edge cells; rows share their interior's).
+  LBSOLID_FORCE_INLINE void locate(long cell) {
+    const long nx = fluid_.config_.nx;
+    if (cell < row_first_ || cell >= row_first_ + nx) {
+      row_ = cell / nx;
+      row_first_ = row_ * nx;
+      plan_ = &fluid_.plans_.for_row(row_);
+      part_ = -1;
+    }
+    if (const int part = RowPlans<L, T>::part_of(static_cast<int>(cell - row_first_), static_cast<int>(nx)); part != part_) {
+      part_ = part;
+      const auto& sources = fluid_.plans_.sources(row_, part);
+      if (&sources != sources_) {
+        slots_ = fluid_.injection_slots(sources, local_);
+        sources_ = &sources;
+      }
+    }
+  }
+
+  // The node's fluid from its post-collision populations.
+  DensityMomentum read(long cell) {
+    locate(cell);
+    std::array<T, Q> stored;
+    for (int i = 0; i < Q; ++i) stored[i] = f_[cell + slots_.offset[i]];
+    DensityMomentum fluid = fluid_.density_momentum_of(stored, *plan_);
+    // The collision added F to sum_i f_i c_i; density_momentum_of added F/2 more.
+    if (fluid_.has_force_)
+      for (int a = 0; a < 3; ++a) fluid.momentum[a] -= plan_->force[a];
+    return fluid;
+  }
+  // read() for the n inner nodes from `cell` on (slots_ and plan_ theirs), into out[0, n).
+  LBSOLID_FORCE_INLINE void read_run(long cell, int n, DensityMomentum* out) const {
+    const auto block = [&](long first, int count, DensityMomentum* to) LBSOLID_FORCE_INLINE_LAMBDA {
+      double drho[kRunBlock] = {}, j[3][kRunBlock] = {};
+      // density_momentum_of()'s sums, direction by direction, across the nodes.
+      [&]<int... I>(std::integer_sequence<int, I...>) LBSOLID_FORCE_INLINE_LAMBDA {
+        ([&]() LBSOLID_FORCE_INLINE_LAMBDA {
+          const T* __restrict from = f_ + first + slots_.offset[I];
+          for (int k = 0; k < count; ++k) {
+            const T g = from[k];
+            const double v = static_cast<double>(g);
+            drho[k] += g;
+            j[0][k] = lattice::add_c<L, I, 0>(j[0][k], v);
+            j[1][k] = lattice::add_c<L, I, 1>(j[1][k], v);
+            j[2][k] = lattice::add_c<L, I, 2>(j[2][k], v);
+          }
+        }(), ...);
+      }(std::make_integer_sequence<int, Q>{});
+      const bool force = fluid_.has_force_;
+      for (int k = 0; k < count; ++k) {
+        to[k].rho = fluid_.config_.rho0 + drho[k];
+        for (int a = 0; a < 3; ++a) {
+          to[k].momentum[a] = j[a][k] + (force ? 0.5 * plan_->force[a] : 0.0);
+          if (force) to[k].momentum[a] -= plan_->force[a];
+        }
+      }
+    };
+    int k = 0;
+    for (; k + kRunBlock <= n; k += kRunBlock) block(cell + k, kRunBlock, out + k);  // unrolled: a constant count
+    if (k < n) block(cell + k, n - k, out + k);
+  }
+
+  // Its gain (D values), through the slots read() last worked out: the cells of one row part.
+  void add(long cell, const double* gain) {
+    if (RowPlans<L, T>::part_of(static_cast<int>(cell - row_first_), fluid_.config_.nx) != part_) locate(cell);
+    fluid_.add_at<false>(f_, slots_, cell, gain);
+  }
+  // add() for the n inner nodes from `cell` on (slots_ theirs, plain), gain k at gain + D k.
+  LBSOLID_FORCE_INLINE void add_run(long cell, int n, const double* gain) {
+    constexpr auto opp = lattice::opposite_table<L>();
+    const auto block = [&](long first, int count, const double* dp) LBSOLID_FORCE_INLINE_LAMBDA {
+      // add_at()'s terms, a pair of opposite directions at a time, across the nodes.
+      [&]<int... I>(std::integer_sequence<int, I...>) LBSOLID_FORCE_INLINE_LAMBDA {
+        ([&]() LBSOLID_FORCE_INLINE_LAMBDA {
+          constexpr int J = opp[I];
+          if constexpr (J > I) {
+            double term[kRunBlock];
+            for (int k = 0; k < count; ++k) {
+              double c_dot_dp = 0;
+              c_dot_dp = lattice::add_c<L, I, 0>(c_dot_dp, dp[D * k]);
+              c_dot_dp = lattice::add_c<L, I, 1>(c_dot_dp, dp[D * k + 1]);
+              if constexpr (D == 3) c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[D * k + 2]);
+              term[k] = L::w[I] * c_dot_dp / L::cs2;
+            }
+            T* __restrict to_i = f_ + first + slots_.offset[I];
+            for (int k = 0; k < count; ++k) to_i[k] += static_cast<T>(term[k]);
+            T* __restrict to_j = f_ + first + slots_.offset[J];
+            for (int k = 0; k < count; ++k) to_j[k] += static_cast<T>(-term[k]);
+          }
+        }(), ...);
+      }(std::make_integer_sequence<int, Q>{});
+    };
+    int k = 0;
+    for (; k + kRunBlock <= n; k += kRunBlock) block(cell + k, kRunBlock, gain + D * k);
+    if (k < n) block(cell + k, n - k, gain + D * k);
+  }
+
+  const FluidLattice& fluid_;
+  InStepExchange& exchange_;
+  T* f_;
+  bool local_;
+  DensityMomentum read_[64];  // a word's nodes' fluid
+  // The row of the last node and its first cell (none yet: no cell is within nx of it).
+  long row_ = -1, row_first_ = -(1L << 62);
+  const RowPlan<T, Q>* plan_ = nullptr;
+  int part_ = -1;
+  const PullSources<T, Q>* sources_ = nullptr;
+  InjectionSlots slots_{};
+};
+
+}  // namespace lbsolid::fluid
