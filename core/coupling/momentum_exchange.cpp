@@ -53,7 +53,10 @@ MomentumExchange::MomentumExchange(const std::array<int, 3>& grid, ExchangeRule 
 
 void MomentumExchange::Slots::resize(std::size_t n) {
   // Exactly n: a growing vector's resize would double its capacity (and the exchange's memory).
+  // The old records are dropped first, not copied: a listing fills every record it uses afresh.
   const auto exactly = [](auto& v, std::size_t size) {
+    v.clear();
+    v.shrink_to_fit();
     v.reserve(size);
     v.resize(size);
   };
@@ -117,8 +120,13 @@ void MomentumExchange::cut_parts(int parts, parallel::ThreadPool* pool) {
   }
   // Room for the nodes a kept listing may add after these, one a move at most (keep_listing).
   const long room = slots + slots / kRelistDivisor + 1;
-  if (slots_.size() < room || static_cast<long>(slots_.momentum.size()) < slots_.dimension * room)
-    slots_.resize(room);
+  if (slots_.size() < room || static_cast<long>(slots_.momentum.size()) < slots_.dimension * room) {
+    // An eighth more, up to what a node a particle needs: the nodes' number creeps up from one
+    // listing to the next, and growing each time by what it needed reallocated the records at
+    // most listings (2D sheets at 1 a cell: 1.5 ns a particle a step, spread over the steps).
+    const long particles = static_cast<long>(cell_.size());
+    slots_.resize(std::max(room, std::min(room + room / 8, particles + particles / kRelistDivisor + 1)));
+  }
   if (rule_ == ExchangeRule::kPairwise && static_cast<long>(slots_.pairwise_rho.size()) < slots)
     slots_.pairwise_rho.resize(slots);
 }

@@ -166,7 +166,7 @@ class MomentumExchange final : private fluid::InStepExchange {
     std::vector<std::uint32_t> anchors;  // anchored particles at the node
     std::vector<double> anchor_share;    // what each of them gives the node (anchor_dp)
     long size() const { return static_cast<long>(node.size()); }
-    void resize(std::size_t n);
+    void resize(std::size_t n);  // n records each, what they held dropped
     std::size_t bytes_allocated() const;
     // Slot s's vector in `of`, as a 3-vector.
     fluid::Vec3 vector(const std::vector<double>& of, long s) const {
