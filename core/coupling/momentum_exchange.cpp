@@ -226,9 +226,13 @@ void MomentumExchange::compute_sums(const std::vector<double>& mass, const solid
 std::size_t MomentumExchange::extra_table_entry(CellIndex c) const {
   const std::uint64_t key = static_cast<std::uint64_t>(c) + 1;
   const std::size_t mask = extra_table_.size() - 1;
-  std::size_t at = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> 32) & mask;
+  std::size_t at = extra_table_home(c);
   while (extra_table_[at] != 0 && (extra_table_[at] >> 32) != key) at = (at + 1) & mask;
   return at;
+}
+
+void MomentumExchange::prefetch_other_slot(long cell) const {
+  __builtin_prefetch(extra_table_.data() + extra_table_home(static_cast<CellIndex>(cell)));
 }
 
 std::uint32_t MomentumExchange::other_slot(long cell) const {

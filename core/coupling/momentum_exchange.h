@@ -149,6 +149,7 @@ class MomentumExchange final : private fluid::InStepExchange {
   // fluid::InStepExchange: the slot of a node listed since the parts' own, and the exchange of a
   // run of slots (node_velocities).
   std::uint32_t other_slot(long cell) const override;
+  void prefetch_other_slot(long cell) const override;
   const double* exchange(std::uint32_t first_slot, long count, const fluid::DensityMomentum* fluid) override;
   // Every listed node, slot by slot (part k's from base[k] on): the node, the total mass and
   // momentum of its particles, the velocity its particles are compared with (u*, or the fluid's u
@@ -224,8 +225,13 @@ class MomentumExchange final : private fluid::InStepExchange {
   // The slot of cell c, a node not in the last listing, for a particle that moved there: the one
   // it was given after the parts' slots, or a new one.
   std::uint32_t extra_slot_of(CellIndex c);
-  // Where cell c's entry of extra_table_ is, or the empty entry where it would go.
+  // Where cell c's entry of extra_table_ is, or the empty entry where it would go; its probe
+  // starts at extra_table_home(c).
   std::size_t extra_table_entry(CellIndex c) const;
+  std::size_t extra_table_home(CellIndex c) const {
+    return static_cast<std::size_t>(((static_cast<std::uint64_t>(c) + 1) * 0x9E3779B97F4A7C15ULL) >> 32) &
+           (extra_table_.size() - 1);
+  }
   // The comparison velocity and gain of the slots [first, first + count), their fluid read in
   // batches.
   template <class Fluid>

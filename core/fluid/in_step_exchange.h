@@ -30,6 +30,9 @@ class InStepExchange {
   const MarkWord* marks = nullptr;
   const std::uint64_t* other_marks = nullptr;
   virtual std::uint32_t other_slot(long cell) const = 0;
+  // Asks for what other_slot(cell) will read, where that is memory the cache may not hold (the
+  // step calls it for a word's other nodes before it exchanges the word's nodes).
+  virtual void prefetch_other_slot(long /*cell*/) const {}
   // The exchange of nodes first_slot .. first_slot + count - 1 given their fluid (`fluid[k]` for
   // slot first_slot + k: density, and momentum sum_i f_i c_i + F/2 as gather_momenta reads it
   // before the step): returns the momentum their fluid gains (D values a node, valid until the
@@ -59,6 +62,9 @@ class FinishedCells {
       const std::uint64_t hits = word.cells & range;
       const std::uint64_t others = other_marks_ ? other_marks_[w] & range : 0;
       if ((hits | others) == 0) continue;
+      // The other nodes' slots are looked up in a table, a cache miss each: asked for first, so
+      // that they arrive while the word's other nodes are exchanged.
+      for (std::uint64_t bits = others; bits != 0; bits &= bits - 1) prefetch_other_node(64 * w + __builtin_ctzll(bits));
       // The marked cells of the range have consecutive slots, from the marked cells before it on.
       if (hits != 0) {
         const std::uint64_t before = word.cells & ((std::uint64_t{1} << low) - 1);
@@ -75,6 +81,7 @@ class FinishedCells {
   virtual void nodes(long word_first, std::uint64_t bits, std::uint32_t first_slot) = 0;
   // The exchange at `cell`, of the node InStepExchange::other_slot() gives.
   virtual void other_node(long cell) = 0;
+  virtual void prefetch_other_node(long cell) = 0;
 
  private:
   const MarkWord* marks_;

@@ -54,6 +54,7 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
     const DensityMomentum fluid = read(cell);
     add(cell, exchange_.exchange(exchange_.other_slot(cell), 1, &fluid));
   }
+  void prefetch_other_node(long cell) override { exchange_.prefetch_other_slot(cell); }
 
   // visit(cell, n, interior) for the runs of cells word_first + b, b the set bits of `bits`
   // (cells of one row), in order: runs of neighbouring cells cut where a row's edge cell begins or
