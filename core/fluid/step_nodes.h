@@ -14,11 +14,12 @@ namespace lbsolid::fluid {
 
 // Each node's fluid is read from the populations just stored, and its gain added there. A run of
 // neighbouring nodes inside a row (no edge cell: they share their slots) is read and given its
-// gains across nodes, a block of kRunBlock at a time in vector registers, on the CPU's
-// instruction set; node by node that was most of the exchange's cost inside the step (scalar
-// loads and sums, about 10 ns a node in 2D). Each node gets the same operations in the same order
-// as read() and add_at() give it alone (no contraction: -ffp-contract=off): the same values, bit
-// for bit.
+// gains across nodes, in blocks of kRunBlock in vector registers on the CPU's instruction set;
+// node by node, scalar loads and sums were most of the exchange's cost inside the step in 2D.
+// What is left of a run after its blocks goes node by node: blocks of any length (a count not
+// known when compiled) gained less in 2D, and in 3D, whose balls' rows are mostly shorter than a
+// block, nothing measurable. Each node gets the same operations in the same order as read() and
+// add_at() give it alone (no contraction: -ffp-contract=off): the same values, bit for bit.
 template <class L, class T>
 class FluidLattice<L, T>::StepNodes final : public FinishedCells {
  public:
@@ -33,9 +34,9 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
     long count = 0;
     run_with_isa(kernel_isa(), [&]() LBSOLID_FORCE_INLINE_LAMBDA {
       for_each_run(word_first, bits, [&](long cell, int n, bool interior) LBSOLID_FORCE_INLINE_LAMBDA {
-        if (interior) read_run(cell, n, read_ + count);
-        else
-          for (int k = 0; k < n; ++k) read_[count + k] = read(cell + k);
+        const int blocks = interior ? n / kRunBlock : 0;
+        for (int b = 0; b < blocks; ++b) read_block(cell + b * kRunBlock, read_ + count + b * kRunBlock);
+        for (int k = blocks * kRunBlock; k < n; ++k) read_[count + k] = read(cell + k);
         count += n;
       });
     });
@@ -43,9 +44,9 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
     count = 0;
     run_with_isa(kernel_isa(), [&]() LBSOLID_FORCE_INLINE_LAMBDA {
       for_each_run(word_first, bits, [&](long cell, int n, bool interior) LBSOLID_FORCE_INLINE_LAMBDA {
-        if (interior && slots_.plain) add_run(cell, n, gain + D * count);
-        else
-          for (int k = 0; k < n; ++k) add(cell + k, gain + D * (count + k));
+        const int blocks = interior && slots_.plain ? n / kRunBlock : 0;
+        for (int b = 0; b < blocks; ++b) add_block(cell + b * kRunBlock, gain + D * (count + b * kRunBlock));
+        for (int k = blocks * kRunBlock; k < n; ++k) add(cell + k, gain + D * (count + k));
         count += n;
       });
     });
@@ -112,36 +113,31 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
       for (int a = 0; a < 3; ++a) fluid.momentum[a] -= plan_->force[a];
     return fluid;
   }
-  // read() for the n inner nodes from `cell` on (slots_ and plan_ theirs), into out[0, n).
-  LBSOLID_FORCE_INLINE void read_run(long cell, int n, DensityMomentum* out) const {
-    const auto block = [&](long first, int count, DensityMomentum* to) LBSOLID_FORCE_INLINE_LAMBDA {
-      double drho[kRunBlock] = {}, j[3][kRunBlock] = {};
-      // density_momentum_of()'s sums, direction by direction, across the nodes.
-      [&]<int... I>(std::integer_sequence<int, I...>) LBSOLID_FORCE_INLINE_LAMBDA {
-        ([&]() LBSOLID_FORCE_INLINE_LAMBDA {
-          const T* __restrict from = f_ + first + slots_.offset[I];
-          for (int k = 0; k < count; ++k) {
-            const T g = from[k];
-            const double v = static_cast<double>(g);
-            drho[k] += g;
-            j[0][k] = lattice::add_c<L, I, 0>(j[0][k], v);
-            j[1][k] = lattice::add_c<L, I, 1>(j[1][k], v);
-            j[2][k] = lattice::add_c<L, I, 2>(j[2][k], v);
-          }
-        }(), ...);
-      }(std::make_integer_sequence<int, Q>{});
-      const bool force = fluid_.has_force_;
-      for (int k = 0; k < count; ++k) {
-        to[k].rho = fluid_.config_.rho0 + drho[k];
-        for (int a = 0; a < 3; ++a) {
-          to[k].momentum[a] = j[a][k] + (force ? 0.5 * plan_->force[a] : 0.0);
-          if (force) to[k].momentum[a] -= plan_->force[a];
+  // read() for the kRunBlock inner nodes from `cell` on (slots_ and plan_ theirs), into out[0, kRunBlock).
+  LBSOLID_FORCE_INLINE void read_block(long cell, DensityMomentum* out) const {
+    double drho[kRunBlock] = {}, j[3][kRunBlock] = {};
+    // density_momentum_of()'s sums, direction by direction, across the nodes.
+    [&]<int... I>(std::integer_sequence<int, I...>) LBSOLID_FORCE_INLINE_LAMBDA {
+      ([&]() LBSOLID_FORCE_INLINE_LAMBDA {
+        const T* __restrict from = f_ + cell + slots_.offset[I];
+        for (int k = 0; k < kRunBlock; ++k) {
+          const T g = from[k];
+          const double v = static_cast<double>(g);
+          drho[k] += g;
+          j[0][k] = lattice::add_c<L, I, 0>(j[0][k], v);
+          j[1][k] = lattice::add_c<L, I, 1>(j[1][k], v);
+          j[2][k] = lattice::add_c<L, I, 2>(j[2][k], v);
         }
+      }(), ...);
+    }(std::make_integer_sequence<int, Q>{});
+    const bool force = fluid_.has_force_;
+    for (int k = 0; k < kRunBlock; ++k) {
+      out[k].rho = fluid_.config_.rho0 + drho[k];
+      for (int a = 0; a < 3; ++a) {
+        out[k].momentum[a] = j[a][k] + (force ? 0.5 * plan_->force[a] : 0.0);
+        if (force) out[k].momentum[a] -= plan_->force[a];
       }
-    };
-    int k = 0;
-    for (; k + kRunBlock <= n; k += kRunBlock) block(cell + k, kRunBlock, out + k);  // unrolled: a constant count
-    if (k < n) block(cell + k, n - k, out + k);
+    }
   }
 
   // Its gain (D values), through the slots read() last worked out: the cells of one row part.
@@ -149,34 +145,29 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
     if (RowPlans<L, T>::part_of(static_cast<int>(cell - row_first_), fluid_.config_.nx) != part_) locate(cell);
     fluid_.add_at<false>(f_, slots_, cell, gain);
   }
-  // add() for the n inner nodes from `cell` on (slots_ theirs, plain), gain k at gain + D k.
-  LBSOLID_FORCE_INLINE void add_run(long cell, int n, const double* gain) {
+  // add() for the kRunBlock inner nodes from `cell` on (slots_ theirs, plain), gain k at dp + D k.
+  LBSOLID_FORCE_INLINE void add_block(long cell, const double* dp) {
     constexpr auto opp = lattice::opposite_table<L>();
-    const auto block = [&](long first, int count, const double* dp) LBSOLID_FORCE_INLINE_LAMBDA {
-      // add_at()'s terms, a pair of opposite directions at a time, across the nodes.
-      [&]<int... I>(std::integer_sequence<int, I...>) LBSOLID_FORCE_INLINE_LAMBDA {
-        ([&]() LBSOLID_FORCE_INLINE_LAMBDA {
-          constexpr int J = opp[I];
-          if constexpr (J > I) {
-            double term[kRunBlock];
-            for (int k = 0; k < count; ++k) {
-              double c_dot_dp = 0;
-              c_dot_dp = lattice::add_c<L, I, 0>(c_dot_dp, dp[D * k]);
-              c_dot_dp = lattice::add_c<L, I, 1>(c_dot_dp, dp[D * k + 1]);
-              if constexpr (D == 3) c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[D * k + 2]);
-              term[k] = L::w[I] * c_dot_dp / L::cs2;
-            }
-            T* __restrict to_i = f_ + first + slots_.offset[I];
-            for (int k = 0; k < count; ++k) to_i[k] += static_cast<T>(term[k]);
-            T* __restrict to_j = f_ + first + slots_.offset[J];
-            for (int k = 0; k < count; ++k) to_j[k] += static_cast<T>(-term[k]);
+    // add_at()'s terms, a pair of opposite directions at a time, across the nodes.
+    [&]<int... I>(std::integer_sequence<int, I...>) LBSOLID_FORCE_INLINE_LAMBDA {
+      ([&]() LBSOLID_FORCE_INLINE_LAMBDA {
+        constexpr int J = opp[I];
+        if constexpr (J > I) {
+          double term[kRunBlock];
+          for (int k = 0; k < kRunBlock; ++k) {
+            double c_dot_dp = 0;
+            c_dot_dp = lattice::add_c<L, I, 0>(c_dot_dp, dp[D * k]);
+            c_dot_dp = lattice::add_c<L, I, 1>(c_dot_dp, dp[D * k + 1]);
+            if constexpr (D == 3) c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[D * k + 2]);
+            term[k] = L::w[I] * c_dot_dp / L::cs2;
           }
-        }(), ...);
-      }(std::make_integer_sequence<int, Q>{});
-    };
-    int k = 0;
-    for (; k + kRunBlock <= n; k += kRunBlock) block(cell + k, kRunBlock, gain + D * k);
-    if (k < n) block(cell + k, n - k, gain + D * k);
+          T* __restrict to_i = f_ + cell + slots_.offset[I];
+          for (int k = 0; k < kRunBlock; ++k) to_i[k] += static_cast<T>(term[k]);
+          T* __restrict to_j = f_ + cell + slots_.offset[J];
+          for (int k = 0; k < kRunBlock; ++k) to_j[k] += static_cast<T>(-term[k]);
+        }
+      }(), ...);
+    }(std::make_integer_sequence<int, Q>{});
   }
 
   const FluidLattice& fluid_;
