@@ -63,7 +63,7 @@ class FinishedCells {
       const std::uint64_t others = other_marks_ ? other_marks_[w] & range : 0;
       if ((hits | others) == 0) continue;
       // The other nodes' slots are looked up in a table, a cache miss each: asked for first, so
-      // that they arrive while the word's other nodes are exchanged.
+      // that they arrive while the word's listed nodes are exchanged.
       for (std::uint64_t bits = others; bits != 0; bits &= bits - 1) prefetch_other_node(64 * w + __builtin_ctzll(bits));
       // The marked cells of the range have consecutive slots, from the marked cells before it on.
       if (hits != 0) {

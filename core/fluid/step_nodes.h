@@ -18,8 +18,9 @@ namespace lbsolid::fluid {
 // node by node, scalar loads and sums were most of the exchange's cost inside the step in 2D.
 // What is left of a run after its blocks goes node by node: blocks of any length (a count not
 // known when compiled) gained less in 2D and lost in 3D, whose balls' rows are mostly shorter
-// than a block (docs/performance.md). Each node gets the same operations in the same order as read() and
-// add_at() give it alone (no contraction: -ffp-contract=off): the same values, bit for bit.
+// than a block (docs/performance.md). Each node gets the same operations in the same order as
+// read() and add_at() give it alone (no contraction: -ffp-contract=off): the same values, bit for
+// bit.
 template <class L, class T>
 class FluidLattice<L, T>::StepNodes final : public FinishedCells {
  public:
