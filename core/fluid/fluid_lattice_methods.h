@@ -309,6 +309,7 @@ void FluidLattice<L, T>::launch(InStepExchange* exchange) {
   }
   // Each part of the rows runs the kernel compiled for the CPU's instruction set (kernel_isa.h).
   const KernelIsa isa = kernel_isa();
+  if (exchange) count_row_nodes(*exchange);
   auto run_kernel = [&]<bool kForce>(std::bool_constant<kForce>) {
     if (!in_place()) {
       const T* src = storage_.buffer(current_);
@@ -349,6 +350,23 @@ void FluidLattice<L, T>::launch(InStepExchange* exchange) {
 }
 
 template <class L, class T>
+void FluidLattice<L, T>::count_row_nodes(const InStepExchange& exchange) {
+  const long nx = config_.nx;
+  row_nodes_.assign(static_cast<std::size_t>(config_.ny) * config_.nz, 0);
+  const long words = (cells_ + 63) / 64;
+  for (long w = 0; w < words; ++w) {
+    std::uint64_t bits = exchange.marks[w].cells | (exchange.other_marks ? exchange.other_marks[w] : 0);
+    while (bits != 0) {  // the word's nodes row by row
+      const long row = (64 * w + __builtin_ctzll(bits)) / nx;
+      const long end = (row + 1) * nx - 64 * w;  // the row's end, as a bit of the word
+      const std::uint64_t in_row = end >= 64 ? bits : bits & ((std::uint64_t{1} << end) - 1);
+      row_nodes_[static_cast<std::size_t>(row)] += static_cast<std::uint32_t>(__builtin_popcountll(in_row));
+      bits &= ~in_row;
+    }
+  }
+}
+
+template <class L, class T>
 template <class Work>
 void FluidLattice<L, T>::for_row_parts(const InStepExchange* exchange, const Work& work) {
   const long rows = static_cast<long>(config_.ny) * config_.nz;
@@ -357,18 +375,12 @@ void FluidLattice<L, T>::for_row_parts(const InStepExchange* exchange, const Wor
     pool_->parallel_for(rows, parts, work);
     return;
   }
-  // The weight of rows [0, r) for each r: cells, plus kNodeCells a node (a word's marks at a time;
-  // a word a row's end cuts is counted at the row it ends in, close enough to balance).
+  // The weight of rows [0, r) for each r: cells, plus kNodeCells a node (row_nodes_).
   const long nx = config_.nx;
   std::vector<long> before(static_cast<std::size_t>(rows) + 1, 0);
   long nodes = 0;
-  long word = 0;
-  const long words = (cells_ + 63) / 64;
   for (long r = 0; r < rows; ++r) {
-    for (const long end_word = std::min(words, ((r + 1) * nx + 63) / 64); word < end_word; ++word) {
-      nodes += __builtin_popcountll(exchange->marks[word].cells);
-      if (exchange->other_marks) nodes += __builtin_popcountll(exchange->other_marks[word]);
-    }
+    nodes += row_nodes_[static_cast<std::size_t>(r)];
     before[r + 1] = (r + 1) * nx + kNodeCells * nodes;
   }
   std::vector<long> bounds(static_cast<std::size_t>(parts) + 1, rows);

@@ -26,7 +26,11 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
  public:
   // `local`: the step is a local (even) in-place step.
   StepNodes(const FluidLattice& fluid, InStepExchange& exchange, T* f, bool local)
-      : FinishedCells(exchange.marks, exchange.other_marks), fluid_(fluid), exchange_(exchange), f_(f), local_(local) {}
+      : FinishedCells(exchange.marks, exchange.other_marks, fluid.row_nodes_.data(), fluid.config_.nx),
+        fluid_(fluid),
+        exchange_(exchange),
+        f_(f),
+        local_(local) {}
 
  private:
   static constexpr int kRunBlock = 8;

@@ -119,10 +119,14 @@ Footprint estimate_footprint(const v1::Scenario& scenario) {
   const long long populations = saturating_product(buffers * q, population_array_bytes(f.cells, value_bytes));
   // The exchange's marks (16 B a word of 64 cells: a quarter of a byte a cell, one word more
   // for the last cells), the marks of the nodes listed since a listing (a bit a cell, once a
-  // particle moves to a node not listed) and its balancing counts.
+  // particle moves to a node not listed), its balancing counts and the fluid's count of each
+  // row's nodes (4 B a row).
   constexpr long long kBalanceBytes = (coupling::MomentumExchange::kBalanceBlocks + 1) * sizeof(long);
+  const long long rows = with_fluid ? saturating_product(std::max(0, d.ny()), nz) : 0;
   const long long exchange_cells =
-      f.particles > 0 ? saturating_sum(f.cells / 4 + 16 + f.cells / 8 + 8, kBalanceBytes) : 0;
+      f.particles > 0
+          ? saturating_sum(saturating_sum(f.cells / 4 + 16 + f.cells / 8 + 8, kBalanceBytes), saturating_product(rows, 4))
+          : 0;
   const bool rotating = std::any_of(scenario.bodies().begin(), scenario.bodies().end(),
                                     [](const v1::Body& body) { return body.rotation(); });
   const bool particle_forces = std::any_of(scenario.bodies().begin(), scenario.bodies().end(), [](const v1::Body& body) {

@@ -105,7 +105,8 @@ class TestExchange final : public fluid::InStepExchange {
 
 // Some nodes of every kind a step treats apart: both edge cells of rows, the rows at the y walls,
 // runs of neighbours (a body's row: 20 cells, two blocks of 8 and a remainder where no edge cuts
-// it), lone nodes.
+// it), lone nodes, and rows without nodes (y = 3 mod 4 but a wall row) between rows with them,
+// whose reports the step cuts short.
 std::vector<NodeIndex> some_nodes(int nx, int ny, int nz) {
   std::vector<NodeIndex> nodes;
   for (int z = 0; z < nz; ++z)
@@ -115,7 +116,8 @@ std::vector<NodeIndex> some_nodes(int nx, int ny, int nz) {
         const bool wall_row = (y == 0 || y == ny - 1) && x % 5 == 1;
         const bool run = y % 4 == 2 && x >= nx / 3 && x < nx / 3 + 20;
         const bool lone = (x * 7 + y * 13 + z * 5) % 23 == 0;
-        if (edge || wall_row || run || lone) nodes.push_back({x, y, z});
+        const bool empty_row = y % 4 == 3 && y != 0 && y != ny - 1;
+        if (wall_row || (!empty_row && (edge || run || lone))) nodes.push_back({x, y, z});
       }
   return nodes;
 }
