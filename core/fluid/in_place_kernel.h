@@ -45,13 +45,20 @@ LBSOLID_FORCE_INLINE void collide_local_rows(const RowPlans<L, T>& plans, T* f, 
     const long last = plans.last_row_sharing_force(first, row_end);
     const RowPlan<T, Q>& plan = plans.for_row(first);
     const T force[3] = {plan.force[0], plan.force[1], plan.force[2]};
-    // Reporting, row by row (each reported while its lines are in the cache); else the run at once.
-    const long piece = finished ? nx : (last + 1 - first) * nx;
-    for (long at = first * nx; at < (last + 1) * nx; at += piece) {
-      for_line_aligned_parts<T>(at, at + piece, [&](long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
+    // Reporting, a row with nodes alone (reported while its lines are in the cache) and the rows
+    // between such rows at once; else the run at once.
+    for (long row = first; row <= last;) {
+      long end_row = last + 1;
+      if (finished) {
+        end_row = row + 1;
+        if (!finished->row_has_nodes(row))
+          while (end_row <= last && !finished->row_has_nodes(end_row)) ++end_row;
+      }
+      for_line_aligned_parts<T>(row * nx, end_row * nx, [&](long begin, long end) LBSOLID_FORCE_INLINE_LAMBDA {
         update_cells<L, T, Collision, kForce, false>(in, no_wall, out, no_wall, force, rates, rho0, begin, end);
       });
-      if (finished) (*finished)(at, at + piece);
+      if (finished && end_row == row + 1) (*finished)(row * nx, end_row * nx);
+      row = end_row;
     }
     first = last + 1;
   }

@@ -54,6 +54,8 @@ class FinishedCells {
   FinishedCells(const MarkWord* marks, const std::uint64_t* other_marks, const std::uint32_t* row_nodes, long nx)
       : marks_(marks), other_marks_(other_marks), row_nodes_(row_nodes), nx_(nx) {}
 
+  bool row_has_nodes(long row) const { return row_nodes_[row] != 0; }
+
   LBSOLID_FORCE_INLINE void operator()(long first, long end) {
     if (first >= end || row_nodes_[first / nx_] == 0) return;
     for (long w = first >> 6, last = (end - 1) >> 6; w <= last; ++w) {
