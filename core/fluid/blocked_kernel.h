@@ -28,6 +28,7 @@
 
 #include "fluid/bgk_collision.h"
 #include "fluid/force_inline.h"
+#include "fluid/in_step_exchange.h"
 #include "fluid/population_storage.h"
 #include "fluid/simd_lanes.h"
 #include "lattice/lattice_traits.h"
@@ -203,11 +204,13 @@ struct BlockedKernels {
   }
 
   // The pulling step of rows [first, end) in chunks of up to kChunkRows rows sharing their row
-  // offsets. 32 rows measured as well as 16 and 128 in the probe.
+  // offsets. 32 rows measured as well as 16 and 128 in the probe. With `finished`, each chunk's
+  // rows are reported once it is done: only then are its join slots back where they belong, and
+  // a chunk changes no other cell's slots for good (chunk()), so its cells' results are final.
   static constexpr long kChunkRows = 32;
   template <bool kForce>
   static LBSOLID_FORCE_INLINE void rows(T* f, const Grid& g, long first, long end, const T (&force)[3], T omega,
-                                        T rho0) {
+                                        T rho0, FinishedCells* finished = nullptr) {
     RowOffsets o, next;
     for (long r0 = first; r0 < end;) {
       row_offsets(g, r0, o);
@@ -217,6 +220,8 @@ struct BlockedKernels {
         if (!std::equal(o, o + 9, next)) break;
       }
       chunk<kForce>(f, g, o, r0, r1, force, omega, rho0);
+      if (finished)
+        for (long r = r0; r < r1; ++r) (*finished)(r * g.nx, (r + 1) * g.nx);
       r0 = r1;
     }
   }

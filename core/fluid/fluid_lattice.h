@@ -76,8 +76,8 @@ class FluidLattice {
 
   void step();
   void run(long steps);
-  // Whether step_exchanging() applies: in place, in arrays, and every population stored as it is
-  // (no wall rule with a scale or a correction: moving walls, inlets and outlets have them).
+  // Whether step_exchanging() applies: in place, and every population stored as it is (no wall
+  // rule with a scale or a correction: moving walls, inlets and outlets have them).
   bool can_exchange_in_step() const { return exchange_in_step_; }
   // step() with `exchange` done at its nodes inside it (in_step_exchange.h), in place of
   // gather_momenta before step() and add_momenta after it; the fluid and the nodes' readings then
@@ -252,9 +252,9 @@ class FluidLattice {
   void add_momenta_in(const NodeIndex* nodes, const double* dp, long count);
   template <bool kBlocks>
   void gather_momenta_in(const NodeIndex* nodes, long count, DensityMomentum* out) const;
-  // The step on populations in blocks (blocked_kernel.h).
+  // The step on populations in blocks (blocked_kernel.h), with `exchange` (null: none) at its nodes.
   template <bool kForce>
-  void launch_blocks();
+  void launch_blocks(InStepExchange* exchange);
 
   FluidConfig config_;
   long cells_;

@@ -275,7 +275,7 @@ void FluidLattice<L, T>::write_equilibrium(const Density& density, const Velocit
 
 template <class L, class T>
 bool FluidLattice<L, T>::exchange_in_step_allowed() const {
-  if (!in_place() || blocks()) return false;
+  if (!in_place()) return false;
   // Every population a step stores as it is: what the exchange reads there is f*_i itself.
   const auto plain = [](const PullSources<T, Q>& sources) {
     for (const auto& s : sources)
@@ -300,16 +300,16 @@ void FluidLattice<L, T>::launch(InStepExchange* exchange) {
   const auto& plans = plans_;
   // One kernel per (scheme, phase, force) combination; each of config_.threads row ranges goes
   // to one thread of the pool.
+  if (exchange) count_row_nodes(*exchange);
   if constexpr (std::is_same_v<Collision, BgkCollision<L, T>> && BlockedKernels<L, T>::kLatticeFits) {
     if (blocks()) {  // chosen_layout() leaves blocks to BGK in place
-      if (has_force_) launch_blocks<true>();
-      else launch_blocks<false>();
+      if (has_force_) launch_blocks<true>(exchange);
+      else launch_blocks<false>(exchange);
       return;
     }
   }
   // Each part of the rows runs the kernel compiled for the CPU's instruction set (kernel_isa.h).
   const KernelIsa isa = kernel_isa();
-  if (exchange) count_row_nodes(*exchange);
   auto run_kernel = [&]<bool kForce>(std::bool_constant<kForce>) {
     if (!in_place()) {
       const T* src = storage_.buffer(current_);
@@ -397,7 +397,7 @@ void FluidLattice<L, T>::for_row_parts(const InStepExchange* exchange, const Wor
 
 template <class L, class T>
 template <bool kForce>
-void FluidLattice<L, T>::launch_blocks() {
+void FluidLattice<L, T>::launch_blocks(InStepExchange* exchange) {
   using Blocked = BlockedKernels<L, T>;
   const T omega = static_cast<T>(config_.omega), rho0 = static_cast<T>(config_.rho0);
   const long rows = static_cast<long>(config_.ny) * config_.nz;
@@ -407,17 +407,36 @@ void FluidLattice<L, T>::launch_blocks() {
   const T force[3] = {plan_force[0], plan_force[1], plan_force[2]};
   const KernelIsa isa = kernel_isa();
   T* f = storage_.buffer(0);
+  const long nx = config_.nx;
   if (!pulled_) {
     pool_->parallel_for(rows, config_.threads, [&](long begin, long end) {
+      std::optional<StepNodes> nodes;  // each part its own: they keep the slots last worked out
+      if (exchange) nodes.emplace(*this, *exchange, f, /*local=*/true);
       run_with_isa(isa, [&]() LBSOLID_FORCE_INLINE_LAMBDA {
-        Blocked::template local<kForce>(f, begin * blocks_per_row, end * blocks_per_row, force, omega, rho0);
+        // With an exchange, a row with nodes alone and reported at once, while its lines are in
+        // the cache; the rows between such rows together.
+        for (long row = begin, next; row < end; row = next) {
+          next = end;
+          if (nodes) {
+            next = row + 1;
+            if (!nodes->row_has_nodes(row))
+              while (next < end && !nodes->row_has_nodes(next)) ++next;
+          }
+          Blocked::template local<kForce>(f, row * blocks_per_row, next * blocks_per_row, force, omega, rho0);
+          if (nodes && next == row + 1) (*nodes)(row * nx, next * nx);
+        }
       });
     });
     return;
   }
+  // With an exchange, each part exchanges the nodes of its chunks as they finish: a node's slots
+  // lie within a plane of its cell, and chunks that run at once are 5 planes apart (below).
   auto pull = [&](long first, long end) {
+    std::optional<StepNodes> nodes;
+    if (exchange) nodes.emplace(*this, *exchange, f, /*local=*/false);
+    FinishedCells* finished = nodes ? &*nodes : nullptr;
     run_with_isa(isa, [&]() LBSOLID_FORCE_INLINE_LAMBDA {
-      Blocked::template rows<kForce>(f, grid, first, end, force, omega, rho0);
+      Blocked::template rows<kForce>(f, grid, first, end, force, omega, rho0, finished);
     });
   };
   // A chunk of rows reads and puts back a few lines beside it (blocked_kernel.h): the lines its

@@ -20,7 +20,8 @@ namespace lbsolid::fluid {
 // known when compiled) gained less in 2D and lost in 3D, whose balls' rows are mostly shorter
 // than a block (docs/performance.md). Each node gets the same operations in the same order as
 // read() and add_at() give it alone (no contraction: -ffp-contract=off): the same values, bit for
-// bit.
+// bit. In blocks (blocked_kernel.h) a node's populations are found through slot_index() and every
+// node goes alone: the same values again, as the blocks' kernels give the arrays' bit for bit.
 template <class L, class T>
 class FluidLattice<L, T>::StepNodes final : public FinishedCells {
  public:
@@ -30,7 +31,8 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
         fluid_(fluid),
         exchange_(exchange),
         f_(f),
-        local_(local) {}
+        local_(local),
+        in_blocks_(fluid.blocks()) {}
 
  private:
   static constexpr int kRunBlock = 8;
@@ -39,7 +41,7 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
     long count = 0;
     run_with_isa(kernel_isa(), [&]() LBSOLID_FORCE_INLINE_LAMBDA {
       for_each_run(word_first, bits, [&](long cell, int n, bool interior) LBSOLID_FORCE_INLINE_LAMBDA {
-        const int blocks = interior ? n / kRunBlock : 0;
+        const int blocks = interior && !in_blocks_ ? n / kRunBlock : 0;
         for (int b = 0; b < blocks; ++b) read_block(cell + b * kRunBlock, read_ + count + b * kRunBlock);
         for (int k = blocks * kRunBlock; k < n; ++k) read_[count + k] = read(cell + k);
         count += n;
@@ -49,7 +51,7 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
     count = 0;
     run_with_isa(kernel_isa(), [&]() LBSOLID_FORCE_INLINE_LAMBDA {
       for_each_run(word_first, bits, [&](long cell, int n, bool interior) LBSOLID_FORCE_INLINE_LAMBDA {
-        const int blocks = interior && slots_.plain ? n / kRunBlock : 0;
+        const int blocks = interior && slots_.plain && !in_blocks_ ? n / kRunBlock : 0;
         for (int b = 0; b < blocks; ++b) add_block(cell + b * kRunBlock, gain + D * (count + b * kRunBlock));
         for (int k = blocks * kRunBlock; k < n; ++k) add(cell + k, gain + D * (count + k));
         count += n;
@@ -111,7 +113,10 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
   DensityMomentum read(long cell) {
     locate(cell);
     std::array<T, Q> stored;
-    for (int i = 0; i < Q; ++i) stored[i] = f_[cell + slots_.offset[i]];
+    if (in_blocks_)
+      for (int i = 0; i < Q; ++i) stored[i] = f_[fluid_.template slot_index<true>(slots_, i, cell)];
+    else
+      for (int i = 0; i < Q; ++i) stored[i] = f_[cell + slots_.offset[i]];
     DensityMomentum fluid = fluid_.density_momentum_of(stored, *plan_);
     // The collision added F to sum_i f_i c_i; density_momentum_of added F/2 more.
     if (fluid_.has_force_)
@@ -148,7 +153,8 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
   // Its gain (D values), through the slots read() last worked out: the cells of one row part.
   void add(long cell, const double* gain) {
     if (RowPlans<L, T>::part_of(static_cast<int>(cell - row_first_), fluid_.config_.nx) != part_) locate(cell);
-    fluid_.add_at<false>(f_, slots_, cell, gain);
+    if (in_blocks_) fluid_.template add_at<true>(f_, slots_, cell, gain);
+    else fluid_.template add_at<false>(f_, slots_, cell, gain);
   }
   // add() for the kRunBlock inner nodes from `cell` on (slots_ theirs, plain), gain k at dp + D k.
   LBSOLID_FORCE_INLINE void add_block(long cell, const double* dp) {
@@ -179,6 +185,7 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
   InStepExchange& exchange_;
   T* f_;
   bool local_;
+  bool in_blocks_;  // the populations are in blocks: no runs in vectors
   DensityMomentum read_[64];  // a word's nodes' fluid
   // The row of the last node and its first cell (none yet: no cell is within nx of it).
   long row_ = -1, row_first_ = -(1L << 62);

@@ -28,14 +28,16 @@ namespace {
 bool nonzero(const Vec3& v) { return v[0] != 0 || v[1] != 0 || v[2] != 0; }
 
 // The fluid as the scene describes it, with the populations' layout chosen for the scene where it
-// leaves it open: a scene with bodies keeps them in arrays. In blocks (population_storage.h) a
-// D3Q19 step ran 11-21% faster, but the coupling's batched reads and writes of the 3D
-// suspension's nodes 2-4x slower (a ball's rows lie a block row, 15 KB, apart instead of 768 B,
-// and the hardware prefetcher does not follow them across pages): that scene stepped in 7.7-7.9
-// ms against 6.9-7.0 (docs/performance.md).
+// leaves it open: a scene whose exchange is done around the fluid's step (the pairwise rule)
+// keeps them in arrays. In blocks (population_storage.h) a D3Q19 step ran 11-21% faster, but the
+// coupling's batched reads and writes of the 3D suspension's nodes 2-4x slower (a ball's rows lie
+// a block row, 15 KB, apart instead of 768 B, and the hardware prefetcher does not follow them
+// across pages): that scene stepped in 7.7-7.9 ms against 6.9-7.0 (docs/performance.md). Inside
+// the step (the common-velocity rule) each node is exchanged while its lines are in the cache.
 fluid::FluidConfig fluid_config_for(const Scene& scene) {
   fluid::FluidConfig config = scene.fluid;
-  if (!config.layout && !scene.bodies.empty()) config.layout = fluid::PopulationLayout::kArrays;
+  if (!config.layout && !scene.bodies.empty() && scene.exchange != coupling::ExchangeRule::kCommonVelocity)
+    config.layout = fluid::PopulationLayout::kArrays;
   return config;
 }
 
