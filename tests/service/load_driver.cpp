@@ -222,7 +222,9 @@ LoadReport run_load(const DaemonProcess& daemon, const LoadOptions& options) {
 
   Tally tally;
   const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.seconds));
-  std::vector<std::thread> clients;
+  // jthreads: if anything below throws, the clients (which stop by themselves at `until`) are
+  // joined and the exception reaches the test, instead of std::terminate from a joinable thread.
+  std::vector<std::jthread> clients;
   for (int c = 0; c < options.clients; ++c)
     clients.emplace_back(client_loop, daemon.address(), background[c % background.size()], c, until, options.think_ms,
                          std::ref(tally));
