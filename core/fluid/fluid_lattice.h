@@ -240,10 +240,12 @@ class FluidLattice {
   // row_nodes_ for the step's exchange: the nodes of each row, exact (a word of marks can span
   // rows).
   void count_row_nodes(const InStepExchange& exchange);
-  // A node exchanged inside the step costs about this many cells' updates (measured with one
-  // thread: 20-24 ns a node against 2 ns a cell for D2Q7 at 0.1 particle a cell; 25-40 against
-  // 6.5 for the 3D suspension).
-  static constexpr long kNodeCells = 8;
+  // A node exchanged inside the step costs about this many cells' updates. 2D: 4, since the
+  // node's cost fell to about 9 ns against 1.9 a cell (D2Q7 at 0.1 particle a cell, one thread);
+  // with two threads, the step by step A/B of docs/performance.md gave 4 against 8 -2.9 and
+  // -4.3 ns a particle, and 3 to 5 alike. 3D: 8, set when a node cost 25-40 ns against 6.5 a
+  // cell and not measured again (the 3D suspension runs in blocks, split by planes).
+  static constexpr long kNodeCells = L::D == 2 ? 4 : 8;
   // One step's fused kernels with the given collision policy (bgk_collision.h and siblings).
   template <class Collision>
   void launch(InStepExchange* exchange);
