@@ -136,10 +136,16 @@ class FluidLattice {
   // A population is read as stored * scale + correction (a pressure outlet's scale is 0).
   // offset[i] = storage_.index(array[i], delta[i]) in arrays (a cell then adds its index); in
   // blocks a slot is worked out from array[i] and the cell + delta[i] (slot_index()).
+  // In blocks, in_block[x][i] is where population i of a node at lane x (its cell mod W) lies
+  // from its block's start (PopulationStorage::offset_in_blocks), tabulated once a row part:
+  // index_in_blocks' division and remainder, twice a population a node, were most of the 3D
+  // exchange's cost inside the step in blocks (docs/performance.md).
+  using BlockOffsets = std::array<std::array<long, L::Q>, PopulationStorage<T>::kBlockCells>;
   struct RowSlots {
     std::array<int, L::Q> array;
     std::array<long, L::Q> delta;
     std::array<long, L::Q> offset;
+    BlockOffsets in_block;  // in blocks only
     std::array<T, L::Q> correction;
     std::array<T, L::Q> scale;
     bool plain;  // every scale 1 and correction 0
@@ -155,6 +161,7 @@ class FluidLattice {
     std::array<int, L::Q> array;
     std::array<long, L::Q> delta;
     std::array<long, L::Q> offset;
+    BlockOffsets in_block;  // in blocks only
     std::array<T, L::Q> scale;
     bool plain;  // every scale 1
   };
@@ -185,8 +192,19 @@ class FluidLattice {
   // Where population i of the node at cell c is, for slots of a known layout.
   template <bool kBlocks, class Slots>
   long slot_index(const Slots& slots, int i, long c) const {
-    if constexpr (kBlocks) return storage_.index_in_blocks(slots.array[i], c + slots.delta[i]);
-    else return c + slots.offset[i];
+    if constexpr (kBlocks) {
+      constexpr long W = PopulationStorage<T>::kBlockCells;
+      const auto cell = static_cast<unsigned long>(c);  // never negative: unsigned, a shift and a mask
+      return static_cast<long>(cell / W) * (L::Q * W) + slots.in_block[cell % W][i];
+    } else {
+      return c + slots.offset[i];
+    }
+  }
+  // Slots' in_block, from their array and delta (in blocks).
+  template <class Slots>
+  void tabulate_in_block(Slots& slots) const {
+    for (int lane = 0; lane < PopulationStorage<T>::kBlockCells; ++lane)
+      for (int i = 0; i < Q; ++i) slots.in_block[lane][i] = storage_.offset_in_blocks(slots.array[i], slots.delta[i], lane);
   }
   // The later node's slots are taken to be this node's (exact within a row part, close
   // elsewhere: a prefetch needs no exact address). Always inlined, in every build: left as a

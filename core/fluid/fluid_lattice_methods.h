@@ -577,6 +577,7 @@ typename FluidLattice<L, T>::InjectionSlots FluidLattice<L, T>::injection_slots(
     }
     slots.offset[i] = storage_.index_in_arrays(slots.array[i], slots.delta[i]);
   }
+  if (blocks()) tabulate_in_block(slots);
   return slots;
 }
 
@@ -661,7 +662,10 @@ std::array<T, L::Q> FluidLattice<L, T>::gather(int x, int y, int z) const {
 template <class L, class T>
 typename FluidLattice<L, T>::RowSlots FluidLattice<L, T>::read_slots(const PullSources<T, L::Q>& sources) const {
   // slot() for every direction.
-  RowSlots slots{};
+  // Not value-initialised: gather_at() calls this for every cell it reads, and in_block (left
+  // unset here: only the batched gather in blocks reads it, after tabulate_in_block()) is Q W words.
+  RowSlots slots;
+  slots.correction.fill(T(0));
   slots.scale.fill(T(1));
   slots.plain = true;
   constexpr auto opp = lattice::opposite_table<L>();
@@ -715,6 +719,7 @@ void FluidLattice<L, T>::gather_momenta_in(const NodeIndex* nodes, long count, D
       // Rows share their interior's sources: the slots are worked out again only where they differ.
       if (const auto& sources = plans_.sources_of_part(y, z, part); &sources != slots_from) {
         slots = read_slots(sources);
+        if constexpr (kBlocks) tabulate_in_block(slots);
         slots_from = &sources;
       }
       row_part = 3 * row + part;

@@ -48,6 +48,13 @@ class PopulationStorage {
   long index_in_blocks(int i, long cell) const {
     return (cell / kBlockCells) * q_ * kBlockCells + i * kBlockCells + cell % kBlockCells;
   }
+  // index_in_blocks(i, c + delta) less that of c's block start, for any cell c at `lane` (c mod W)
+  // with c + delta a cell: a function of (i, delta, lane) alone, which callers tabulate.
+  long offset_in_blocks(int i, long delta, int lane) const {
+    const long from_start = lane + delta;  // cells from c's block start to c + delta
+    const long blocks = from_start >= 0 ? from_start / kBlockCells : -((kBlockCells - 1 - from_start) / kBlockCells);
+    return blocks * q_ * kBlockCells + i * kBlockCells + (from_start - blocks * kBlockCells);
+  }
   std::size_t bytes() const { return static_cast<std::size_t>(buffers_) * q_ * stride_ * sizeof(T); }
   // The buffer's cell 0 (blocks: after the margin).
   T* buffer(int which) { return data_ + static_cast<std::size_t>(which) * q_ * stride_ + margin(); }
