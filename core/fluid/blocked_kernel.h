@@ -207,12 +207,11 @@ struct BlockedKernels {
   // offsets. 32 rows measured as well as 16 and 128 in the probe. With `finished`, each chunk's
   // rows are reported once it is done: only then are its join slots back where they belong, and
   // a chunk changes no other cell's slots for good (chunk()), so its cells' results are final.
-  // A chunk with nodes ends after kChunkRowsExchanging rows, so that their lines are still in the
-  // cache when they are exchanged: the 3D suspension's coupled step over the fluid-only box in
-  // blocks 139-200 ns a particle in five runs -> 103-134 in eleven (one process, one thread;
-  // cutting every chunk at 8 rows measured the same).
+  // Chunks with nodes were cut at 8 rows (bf604b5), so that the nodes' lines were still in the
+  // cache when exchanged; once a node's slots came from a table (1d14dbc) the cut cost 5-14 ns a
+  // particle on one thread in the 3D suspension, and nothing measurable on two
+  // (docs/performance.md).
   static constexpr long kChunkRows = 32;
-  static constexpr long kChunkRowsExchanging = 8;
   template <bool kForce>
   static LBSOLID_FORCE_INLINE void rows(T* f, const Grid& g, long first, long end, const T (&force)[3], T omega,
                                         T rho0, FinishedCells* finished = nullptr) {
@@ -220,10 +219,7 @@ struct BlockedKernels {
     for (long r0 = first; r0 < end;) {
       row_offsets(g, r0, o);
       long r1 = r0 + 1;
-      bool nodes = finished && finished->row_has_nodes(r0);
       for (; r1 < end && r1 - r0 < kChunkRows; ++r1) {
-        if (nodes && r1 - r0 >= kChunkRowsExchanging) break;
-        nodes = nodes || (finished && finished->row_has_nodes(r1));
         row_offsets(g, r1, next);
         if (!std::equal(o, o + 9, next)) break;
       }
