@@ -27,20 +27,6 @@ namespace {
 
 bool nonzero(const Vec3& v) { return v[0] != 0 || v[1] != 0 || v[2] != 0; }
 
-// The fluid as the scene describes it, with the populations' layout chosen for the scene where it
-// leaves it open: a scene whose exchange is done around the fluid's step (the pairwise rule)
-// keeps them in arrays. In blocks (population_storage.h) a D3Q19 step ran 11-21% faster, but the
-// coupling's batched reads and writes of the 3D suspension's nodes 2-4x slower (a ball's rows lie
-// a block row, 15 KB, apart instead of 768 B, and the hardware prefetcher does not follow them
-// across pages): that scene stepped in 7.7-7.9 ms against 6.9-7.0 (docs/performance.md). Inside
-// the step (the common-velocity rule) each node is exchanged while its lines are in the cache.
-fluid::FluidConfig fluid_config_for(const Scene& scene) {
-  fluid::FluidConfig config = scene.fluid;
-  if (!config.layout && !scene.bodies.empty() && scene.exchange != coupling::ExchangeRule::kCommonVelocity)
-    config.layout = fluid::PopulationLayout::kArrays;
-  return config;
-}
-
 template <class L, class T>
 class SimulationImpl final : public Simulation {
  public:
@@ -48,7 +34,11 @@ class SimulationImpl final : public Simulation {
       : scene_(scene),
         locator_(scene.fluid),
         pool_(pool ? std::move(pool) : std::make_shared<parallel::ThreadPool>(scene.fluid.threads)) {
-    if (scene.with_fluid) fluid_ = std::make_unique<fluid::FluidLattice<L, T>>(fluid_config_for(scene), pool_);
+    // The populations' layout is the fluid's own choice where the scene leaves it open
+    // (FluidLattice::chosen_layout), bodies or not: since 1d14dbc the pairwise rule's batched
+    // calls cost little more in blocks than in arrays, and the blocks' faster step wins
+    // (docs/performance.md).
+    if (scene.with_fluid) fluid_ = std::make_unique<fluid::FluidLattice<L, T>>(scene.fluid, pool_);
     bool loads = false, rotating = false, point_loads = false, fracture = false;
     if (!scene.bodies.empty()) {
       solid_ = std::make_unique<solid::SolidSystem>(L::D);

@@ -467,7 +467,7 @@ void expect_in_step_exchange_alike(const fluid::FluidConfig& config, long partic
     }
     fluid::FluidConfig c = config;
     c.threads = parts;
-    c.layout = fluid::PopulationLayout::kArrays;  // as a scene with bodies keeps it
+    c.layout = fluid::PopulationLayout::kArrays;  // the same on every host (blocks need AVX-512)
     fluid::FluidLattice<L, double> around(c, nullptr), inside(c, nullptr), inside_fresh(c, nullptr);
     ASSERT_TRUE(inside.can_exchange_in_step());
     const auto density = [](int x, int y, int z) { return 1.0 + 0.01 * std::sin(0.7 * x + 1.3 * y + 0.4 * z); };
