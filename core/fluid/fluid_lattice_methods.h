@@ -56,6 +56,9 @@ FluidLattice<L, T>::FluidLattice(const FluidConfig& config, std::shared_ptr<para
       owns_pool_(pool == nullptr),
       pool_(owns_pool_ ? std::make_shared<parallel::ThreadPool>(config_.threads) : std::move(pool)) {
   if (in_place()) check_in_place_slots();
+  // Sized now, not at the first coupled step: the fluid's footprint (bytes_allocated, which a
+  // session reports while a worker steps it) is fixed when it is built.
+  if (exchange_in_step_) row_nodes_.assign(static_cast<std::size_t>(config_.ny) * config_.nz, 0);
   initialize_uniform(config_.rho0, {0, 0, 0});
 }
 

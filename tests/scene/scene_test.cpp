@@ -225,6 +225,19 @@ TEST(SimulationObservers, ReadTheStateTheyDescribe) {
   for (double u : sim->velocity_profile()) EXPECT_EQ(u, 0.0);
 }
 
+// The fluid's footprint is fixed when it is built: a session reports it while a worker steps the
+// simulation, so a coupled step (whose exchange counts the nodes of each row) must not grow it.
+TEST(SimulationObservers, FluidBytesDoNotChangeWhenTheSimulationSteps) {
+  Scene s = channel();
+  s.bodies.push_back(disk_at(10, 4.5));
+  auto sim = build_simulation(s);
+  const std::size_t built = sim->fluid_bytes();
+  for (int k = 0; k < 3; ++k) {
+    sim->step();
+    EXPECT_EQ(sim->fluid_bytes(), built) << "after step " << k + 1;
+  }
+}
+
 // particle_velocity reads the solid: without one, or for a particle it does not hold, it throws
 // rather than reading through a null pointer or past the end of the arrays.
 TEST(SimulationObservers, ParticleVelocityChecksItsArgument) {
