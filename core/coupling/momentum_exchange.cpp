@@ -194,6 +194,7 @@ void MomentumExchange::mark_cells(Part& part) {
 void MomentumExchange::begin_listing(int dimension, int parts, parallel::ThreadPool* pool, bool anchors) {
   slots_.dimension = dimension;
   anchors_present_ = anchors;
+  gains_stored_ = true;
   long moves = 0;
   relisted_ = !keep_listing(parts, pool, moves);
   if (relisted_) {
@@ -251,12 +252,15 @@ const double* MomentumExchange::exchange(std::uint32_t first_slot, long count, c
   constexpr long kLine = 64 / sizeof(double);
   for (long at = from; at < to; at += kLine) __builtin_prefetch(slots_.mass.data() + at);
   for (long at = d * from; at < d * to; at += kLine) {
-    __builtin_prefetch(slots_.momentum.data() + at);
+    if (gains_stored_) __builtin_prefetch(slots_.momentum.data() + at);
+    else __builtin_prefetch(slots_.momentum.data() + at, 1);
     __builtin_prefetch(slots_.velocity.data() + at, 1);
-    __builtin_prefetch(slots_.gained.data() + at, 1);
   }
-  node_velocities(first_slot, count, fluid);
-  return slots_.gained.data() + static_cast<long>(slots_.dimension) * first_slot;
+  // The gains replace the momenta summed (gains_stored_ false), whose lines are in the cache now:
+  // slots_.gained was a node's 16 B more to fetch and write back (in 2D).
+  double* gained = (gains_stored_ ? slots_.gained : slots_.momentum).data() + d * static_cast<long>(first_slot);
+  node_velocities(first_slot, count, fluid, gained);
+  return gained;
 }
 
 bool MomentumExchange::keep_listing(int parts, parallel::ThreadPool* pool, long& moves) {
@@ -423,32 +427,37 @@ void MomentumExchange::clear_marks(const Part& part) {
 }
 
 template <int D>
-void MomentumExchange::common_velocities(long first, long count, const fluid::DensityMomentum* read) {
-  // The usual case (common-velocity rule, no anchors), without branches.
+void MomentumExchange::common_velocities(long first, long count, const fluid::DensityMomentum* read,
+                                          double* gained) {
+  // The usual case (common-velocity rule, no anchors), without branches. `gained` may be the
+  // slots' momenta themselves: a node's are read before its gain is written.
   const double* __restrict mass = slots_.mass.data() + first;
-  const double* __restrict momentum = slots_.momentum.data() + D * first;
+  const double* momentum = slots_.momentum.data() + D * first;
   double* __restrict velocity = slots_.velocity.data() + D * first;
-  double* __restrict gained = slots_.gained.data() + D * first;
   for (long k = 0; k < count; ++k) {
     const double inverse_mass = 1.0 / (read[k].rho + mass[k]);
+    double sum[D];
+    for (int a = 0; a < D; ++a) sum[a] = momentum[D * k + a];
     for (int a = 0; a < D; ++a) {
-      velocity[D * k + a] = (read[k].momentum[a] + momentum[D * k + a]) * inverse_mass;
-      gained[D * k + a] = momentum[D * k + a] - mass[k] * velocity[D * k + a];
+      const double u = (read[k].momentum[a] + sum[a]) * inverse_mass;
+      velocity[D * k + a] = u;
+      gained[D * k + a] = sum[a] - mass[k] * u;
     }
   }
 }
 
-void MomentumExchange::node_velocities(long first, long count, const fluid::DensityMomentum* read) {
+void MomentumExchange::node_velocities(long first, long count, const fluid::DensityMomentum* read,
+                                        double* gained_from_first) {
   const int d = slots_.dimension;
   if (rule_ == ExchangeRule::kCommonVelocity && !anchors_present_) {
-    if (d == 2) common_velocities<2>(first, count, read);
-    else common_velocities<3>(first, count, read);
+    if (d == 2) common_velocities<2>(first, count, read, gained_from_first);
+    else common_velocities<3>(first, count, read, gained_from_first);
     return;
   }
   for (long s = first; s < first + count; ++s) {
     const fluid::DensityMomentum& f = read[s - first];
     double* u = slots_.velocity.data() + d * s;
-    double* gained = slots_.gained.data() + d * s;
+    double* gained = gained_from_first + d * (s - first);
     const double* momentum = slots_.momentum.data() + d * s;
     if (slots_.anchors[s] > 0) {  // held still: everything here comes to rest on the anchors
       const double share = 1.0 / slots_.anchors[s];
@@ -501,7 +510,7 @@ ExchangedNodes MomentumExchange::exchanged() const {
   ExchangedNodes out;
   for (const auto& [cell, s] : cell_and_slot) {
     out.nodes.push_back(slots_.node[s]);
-    out.gained.push_back(slots_.vector(slots_.gained, s));
+    out.gained.push_back(slots_.vector(gains_stored_ ? slots_.gained : slots_.momentum, s));
   }
   return out;
 }

@@ -163,7 +163,7 @@ class MomentumExchange final : private fluid::InStepExchange {
     std::vector<double> momentum;
     std::vector<double> pairwise_rho;  // the pairwise rule only
     std::vector<double> velocity;
-    std::vector<double> gained;
+    std::vector<double> gained;  // (inside the step without anchors, in momentum instead: gains_stored_)
     std::vector<std::uint32_t> anchors;  // anchored particles at the node
     std::vector<double> anchor_share;    // what each of them gives the node (anchor_dp)
     long size() const { return static_cast<long>(node.size()); }
@@ -244,10 +244,10 @@ class MomentumExchange final : private fluid::InStepExchange {
   // Unmarks the part's cells: the marks are all zero between exchanges.
   void clear_marks(const Part& part);
   // The comparison velocity and gain of the `count` nodes listed from slot `first` on, given
-  // their fluid as read (`read[k]` for slot first + k).
-  void node_velocities(long first, long count, const fluid::DensityMomentum* read);
+  // their fluid as read (`read[k]` for slot first + k); the gains into gained[dimension k ...].
+  void node_velocities(long first, long count, const fluid::DensityMomentum* read, double* gained);
   template <int D>
-  void common_velocities(long first, long count, const fluid::DensityMomentum* read);
+  void common_velocities(long first, long count, const fluid::DensityMomentum* read, double* gained);
   // The pairwise rule: each particle's dP (eq. 14) and its node's gain, their sum.
   void pairwise_gains(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum);
   // work(k) for every part k, on the pool when there are several.
@@ -293,6 +293,10 @@ class MomentumExchange final : private fluid::InStepExchange {
   std::vector<long> range_counts_;             // particles per (range of indices, part), then offsets
   int parts_used_ = 0;
   bool anchors_present_ = false;  // the last compute() was given anchors
+  // Whether slots_.gained holds the last exchange's gains. Inside the fluid's step, on the
+  // common-velocity rule without anchors, they replace the nodes' summed momenta instead (which
+  // nothing reads after; exchanged() reads them there).
+  bool gains_stored_ = true;
   Slots slots_;
   std::vector<fluid::Vec3> pairwise_dp_;  // the pairwise rule: per particle
 };
@@ -400,6 +404,7 @@ void MomentumExchange::step_fluid(Fluid& fluid) {
     throw std::logic_error("MomentumExchange::step_fluid: the solid's dimension is not the fluid's");
   marks = marks_.data();
   other_marks = extra_slots_ > 0 ? extra_marks_.data() : nullptr;
+  gains_stored_ = anchors_present_;  // else the gains replace the summed momenta
   fluid.step_exchanging(*this);
 }
 
@@ -410,7 +415,7 @@ void MomentumExchange::read_and_compare(const Fluid& fluid, long first, long cou
   for (long chunk = first; chunk < first + count; chunk += kReadChunk) {
     const long chunk_count = std::min(kReadChunk, first + count - chunk);
     fluid.gather_momenta(slots_.node.data() + chunk, chunk_count, read);
-    node_velocities(chunk, chunk_count, read);
+    node_velocities(chunk, chunk_count, read, slots_.gained.data() + slots_.dimension * chunk);
   }
 }
 
