@@ -194,7 +194,7 @@ void MomentumExchange::mark_cells(Part& part) {
 void MomentumExchange::begin_listing(int dimension, int parts, parallel::ThreadPool* pool, bool anchors) {
   slots_.dimension = dimension;
   anchors_present_ = anchors;
-  gains_stored_ = true;
+  velocity_over_sums_ = false;
   long moves = 0;
   relisted_ = !keep_listing(parts, pool, moves);
   if (relisted_) {
@@ -242,7 +242,8 @@ std::uint32_t MomentumExchange::other_slot(long cell) const {
   return static_cast<std::uint32_t>(entry);
 }
 
-const double* MomentumExchange::exchange(std::uint32_t first_slot, long count, const fluid::DensityMomentum* fluid) {
+const double* MomentumExchange::exchange(std::uint32_t first_slot, long count, const fluid::DensityMomentum* fluid,
+                                         double* room) {
   // The step reaches the nodes in cell order, the order of their slots (but for the few listed
   // since): every line of the slots kStepPrefetchAhead on is asked for now (their lines are long
   // evicted by the step; asking for one line an array a call missed most of them in 3D).
@@ -251,16 +252,20 @@ const double* MomentumExchange::exchange(std::uint32_t first_slot, long count, c
   const int d = slots_.dimension;
   constexpr long kLine = 64 / sizeof(double);
   for (long at = from; at < to; at += kLine) __builtin_prefetch(slots_.mass.data() + at);
+  const long first = d * static_cast<long>(first_slot);
+  if (velocity_over_sums_) {
+    for (long at = d * from; at < d * to; at += kLine) __builtin_prefetch(slots_.momentum.data() + at, 1);
+    double* velocity = slots_.momentum.data() + first;
+    if (d == 2) common_velocities<2>(first_slot, count, fluid, velocity, room);
+    else common_velocities<3>(first_slot, count, fluid, velocity, room);
+    return room;
+  }
   for (long at = d * from; at < d * to; at += kLine) {
-    if (gains_stored_) __builtin_prefetch(slots_.momentum.data() + at);
-    else __builtin_prefetch(slots_.momentum.data() + at, 1);
+    __builtin_prefetch(slots_.momentum.data() + at);
     __builtin_prefetch(slots_.velocity.data() + at, 1);
   }
-  // The gains replace the momenta summed (gains_stored_ false), whose lines are in the cache now:
-  // slots_.gained was a node's 16 B more to fetch and write back (in 2D).
-  double* gained = (gains_stored_ ? slots_.gained : slots_.momentum).data() + d * static_cast<long>(first_slot);
-  node_velocities(first_slot, count, fluid, gained);
-  return gained;
+  node_velocities(first_slot, count, fluid, slots_.gained.data() + first);
+  return slots_.gained.data() + first;
 }
 
 bool MomentumExchange::keep_listing(int parts, parallel::ThreadPool* pool, long& moves) {
@@ -428,12 +433,10 @@ void MomentumExchange::clear_marks(const Part& part) {
 
 template <int D>
 void MomentumExchange::common_velocities(long first, long count, const fluid::DensityMomentum* read,
-                                          double* gained) {
-  // The usual case (common-velocity rule, no anchors), without branches. `gained` may be the
-  // slots' momenta themselves: a node's are read before its gain is written.
+                                          double* velocity, double* __restrict gained) {
+  // The usual case (common-velocity rule, no anchors), without branches.
   const double* __restrict mass = slots_.mass.data() + first;
   const double* momentum = slots_.momentum.data() + D * first;
-  double* __restrict velocity = slots_.velocity.data() + D * first;
   for (long k = 0; k < count; ++k) {
     const double inverse_mass = 1.0 / (read[k].rho + mass[k]);
     double sum[D];
@@ -450,8 +453,9 @@ void MomentumExchange::node_velocities(long first, long count, const fluid::Dens
                                         double* gained_from_first) {
   const int d = slots_.dimension;
   if (rule_ == ExchangeRule::kCommonVelocity && !anchors_present_) {
-    if (d == 2) common_velocities<2>(first, count, read, gained_from_first);
-    else common_velocities<3>(first, count, read, gained_from_first);
+    double* velocity = slots_.velocity.data() + d * first;
+    if (d == 2) common_velocities<2>(first, count, read, velocity, gained_from_first);
+    else common_velocities<3>(first, count, read, velocity, gained_from_first);
     return;
   }
   for (long s = first; s < first + count; ++s) {
@@ -497,6 +501,9 @@ void MomentumExchange::pairwise_gains(const Part& part, const std::vector<double
 }
 
 ExchangedNodes MomentumExchange::exchanged() const {
+  if (velocity_over_sums_)
+    throw std::logic_error("MomentumExchange::exchanged: the gains of an exchange inside the fluid's step are not kept "
+                           "(keep_gains(true) before step_fluid() keeps them)");
   // The slots some particle is at (a kept listing may hold nodes left empty), in cell order (a
   // kept listing's later nodes follow the parts').
   std::vector<char> used(static_cast<std::size_t>(listed_slots_ + extra_slots_), 0);
@@ -510,7 +517,7 @@ ExchangedNodes MomentumExchange::exchanged() const {
   ExchangedNodes out;
   for (const auto& [cell, s] : cell_and_slot) {
     out.nodes.push_back(slots_.node[s]);
-    out.gained.push_back(slots_.vector(gains_stored_ ? slots_.gained : slots_.momentum, s));
+    out.gained.push_back(slots_.vector(slots_.gained, s));
   }
   return out;
 }

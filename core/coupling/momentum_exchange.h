@@ -95,8 +95,8 @@ class MomentumExchange final : private fluid::InStepExchange {
                     parallel::ThreadPool* pool = nullptr, int parts = 1, const std::vector<char>* anchored = nullptr);
   // The fluid's step with the exchange of the last compute_sums() inside it: afterwards
   // particle_dp(), anchor_dp() and exchanged() give what compute() and inject() around a
-  // step() would have, to round-off. Needs fluid.can_exchange_in_step() and the common-velocity
-  // rule (std::logic_error otherwise).
+  // step() would have, to round-off (exchanged() only where gains are kept: keep_gains()).
+  // Needs fluid.can_exchange_in_step() and the common-velocity rule (std::logic_error otherwise).
   template <class Fluid>
   void step_fluid(Fluid& fluid);
   // The momentum particle p gives its node, given the mass and momentum compute() had for it;
@@ -104,7 +104,7 @@ class MomentumExchange final : private fluid::InStepExchange {
   template <int D>
   fluid::Vec3 particle_dp(long p, const fluid::Vec3& momentum, double mass) const {
     if (rule_ != ExchangeRule::kCommonVelocity) return pairwise_dp_[p];
-    const double* u = slots_.velocity.data() + D * static_cast<long>(slot_[p]);
+    const double* u = compared_velocity().data() + D * static_cast<long>(slot_[p]);
     fluid::Vec3 dp{momentum[0] - mass * u[0], momentum[1] - mass * u[1], momentum[2]};
     if constexpr (D == 3) dp[2] -= mass * u[2];
     return dp;
@@ -113,7 +113,7 @@ class MomentumExchange final : private fluid::InStepExchange {
   // particles in index order, their nodes' slots lie in cell order.
   template <int D>
   void prefetch_particle_dp(long p) const {
-    if (p < static_cast<long>(slot_.size())) __builtin_prefetch(slots_.velocity.data() + D * static_cast<long>(slot_[p]));
+    if (p < static_cast<long>(slot_.size())) __builtin_prefetch(compared_velocity().data() + D * static_cast<long>(slot_[p]));
   }
   // What anchored particle p gives its node (minus what it absorbs there): the node's fluid
   // momentum and the other particles' momenta, negated, over the node's anchors.
@@ -125,8 +125,12 @@ class MomentumExchange final : private fluid::InStepExchange {
 
   CellIndex cell(long p) const { return cell_[p]; }
   // The last compute()'s nodes (those with particles) and what their fluid gains, in cell order
-  // (tests, diagnostics).
+  // (tests, diagnostics). After step_fluid() without anchors, only if keep_gains(true) came
+  // before it (std::logic_error otherwise).
   ExchangedNodes exchanged() const;
+  // Whether step_fluid() keeps each node's gain for exchanged(): at the cost of an array of
+  // gains and one of velocities written and fetched again (off by default).
+  void keep_gains(bool keep) { keep_gains_ = keep; }
   // Whether the last compute() listed its nodes afresh (tests, benchmarks).
   bool relisted() const { return relisted_; }
   ExchangeRule rule() const { return rule_; }
@@ -150,7 +154,7 @@ class MomentumExchange final : private fluid::InStepExchange {
   // run of slots (node_velocities).
   std::uint32_t other_slot(long cell) const override;
   void prefetch_other_slot(long cell) const override;
-  const double* exchange(std::uint32_t first_slot, long count, const fluid::DensityMomentum* fluid) override;
+  const double* exchange(std::uint32_t first_slot, long count, const fluid::DensityMomentum* fluid, double* room) override;
   // Every listed node, slot by slot (part k's from base[k] on): the node, the total mass and
   // momentum of its particles, the velocity its particles are compared with (u*, or the fluid's u
   // for the pairwise rule), and what its fluid gains. The fluid read there is used as it is read,
@@ -162,8 +166,8 @@ class MomentumExchange final : private fluid::InStepExchange {
     std::vector<double> mass;
     std::vector<double> momentum;
     std::vector<double> pairwise_rho;  // the pairwise rule only
-    std::vector<double> velocity;
-    std::vector<double> gained;  // (inside the step without anchors, in momentum instead: gains_stored_)
+    std::vector<double> velocity;  // (in momentum instead when velocity_over_sums_)
+    std::vector<double> gained;    // (not kept when velocity_over_sums_)
     std::vector<std::uint32_t> anchors;  // anchored particles at the node
     std::vector<double> anchor_share;    // what each of them gives the node (anchor_dp)
     long size() const { return static_cast<long>(node.size()); }
@@ -246,8 +250,12 @@ class MomentumExchange final : private fluid::InStepExchange {
   // The comparison velocity and gain of the `count` nodes listed from slot `first` on, given
   // their fluid as read (`read[k]` for slot first + k); the gains into gained[dimension k ...].
   void node_velocities(long first, long count, const fluid::DensityMomentum* read, double* gained);
+  // The same on the common-velocity rule without anchors: u* into velocity[D k ...], which may
+  // be the slots' summed momenta themselves (a node's are read before its u* is written).
   template <int D>
-  void common_velocities(long first, long count, const fluid::DensityMomentum* read, double* gained);
+  void common_velocities(long first, long count, const fluid::DensityMomentum* read, double* velocity, double* gained);
+  // Where the last exchange put each slot's u* (particle_dp()).
+  const std::vector<double>& compared_velocity() const { return velocity_over_sums_ ? slots_.momentum : slots_.velocity; }
   // The pairwise rule: each particle's dP (eq. 14) and its node's gain, their sum.
   void pairwise_gains(const Part& part, const std::vector<double>& mass, const solid::ParticleVectors& momentum);
   // work(k) for every part k, on the pool when there are several.
@@ -293,10 +301,12 @@ class MomentumExchange final : private fluid::InStepExchange {
   std::vector<long> range_counts_;             // particles per (range of indices, part), then offsets
   int parts_used_ = 0;
   bool anchors_present_ = false;  // the last compute() was given anchors
-  // Whether slots_.gained holds the last exchange's gains. Inside the fluid's step, on the
-  // common-velocity rule without anchors, they replace the nodes' summed momenta instead (which
-  // nothing reads after; exchanged() reads them there).
-  bool gains_stored_ = true;
+  // Inside the fluid's step, on the common-velocity rule without anchors and unless keep_gains_:
+  // each node's u* is written over its summed momentum (read just before, by nothing after) and
+  // its gain into the step's room, which the step adds at once. The step then fetches and writes
+  // back no array of velocities or gains: 16 B a node each in 2D (docs/performance.md).
+  bool velocity_over_sums_ = false;
+  bool keep_gains_ = false;
   Slots slots_;
   std::vector<fluid::Vec3> pairwise_dp_;  // the pairwise rule: per particle
 };
@@ -404,7 +414,7 @@ void MomentumExchange::step_fluid(Fluid& fluid) {
     throw std::logic_error("MomentumExchange::step_fluid: the solid's dimension is not the fluid's");
   marks = marks_.data();
   other_marks = extra_slots_ > 0 ? extra_marks_.data() : nullptr;
-  gains_stored_ = anchors_present_;  // else the gains replace the summed momenta
+  velocity_over_sums_ = !anchors_present_ && !keep_gains_;
   fluid.step_exchanging(*this);
 }
 

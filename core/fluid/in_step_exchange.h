@@ -36,8 +36,10 @@ class InStepExchange {
   // The exchange of nodes first_slot .. first_slot + count - 1 given their fluid (`fluid[k]` for
   // slot first_slot + k: density, and momentum sum_i f_i c_i + F/2 as gather_momenta reads it
   // before the step): returns the momentum their fluid gains (D values a node, valid until the
-  // next call for those slots). Called from several threads at once, for different slots.
-  virtual const double* exchange(std::uint32_t first_slot, long count, const DensityMomentum* fluid) = 0;
+  // next call for those slots). `room` holds D * count values the exchange may write the gains
+  // to and return (the step's own, in the cache). Called from several threads at once, for
+  // different slots.
+  virtual const double* exchange(std::uint32_t first_slot, long count, const DensityMomentum* fluid, double* room) = 0;
 
  protected:
   ~InStepExchange() = default;

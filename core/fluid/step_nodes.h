@@ -47,7 +47,7 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
         count += n;
       });
     });
-    const double* gain = exchange_.exchange(first_slot, count, read_);
+    const double* gain = exchange_.exchange(first_slot, count, read_, gains_);
     count = 0;
     run_with_isa(kernel_isa(), [&]() LBSOLID_FORCE_INLINE_LAMBDA {
       for_each_run(word_first, bits, [&](long cell, int n, bool interior) LBSOLID_FORCE_INLINE_LAMBDA {
@@ -60,7 +60,7 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
   }
   void other_node(long cell) override {
     const DensityMomentum fluid = read(cell);
-    add(cell, exchange_.exchange(exchange_.other_slot(cell), 1, &fluid));
+    add(cell, exchange_.exchange(exchange_.other_slot(cell), 1, &fluid, gains_));
   }
   void prefetch_other_node(long cell) override { exchange_.prefetch_other_slot(cell); }
 
@@ -187,6 +187,7 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
   bool local_;
   bool in_blocks_;  // the populations are in blocks: no runs in vectors
   DensityMomentum read_[64];  // a word's nodes' fluid
+  double gains_[64 * 3];      // room for their gains
   // The row of the last node and its first cell (none yet: no cell is within nx of it).
   long row_ = -1, row_first_ = -(1L << 62);
   const RowPlan<T, Q>* plan_ = nullptr;

@@ -73,9 +73,12 @@ class TestExchange final : public fluid::InStepExchange {
       if (cell_[s] == cell && (others_[static_cast<std::size_t>(cell >> 6)] >> (cell & 63) & 1)) return static_cast<std::uint32_t>(s);
     throw std::logic_error("no such other node");
   }
-  const double* exchange(std::uint32_t first_slot, long count, const DensityMomentum* fluid) override {
+  // The gains kept (gain()) and handed back in the step's room, as MomentumExchange does inside
+  // the step without anchors.
+  const double* exchange(std::uint32_t first_slot, long count, const DensityMomentum* fluid, double* room) override {
     for (long k = 0; k < count; ++k) compare(first_slot + k, fluid[k]);
-    return gain_.data() + D * first_slot;
+    std::copy_n(gain_.data() + D * first_slot, D * count, room);
+    return room;
   }
 
   // The slots' nodes, for the calls around the step.
