@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "coupling/node_locator.h"
+#include "fluid/force_inline.h"
 #include "fluid/in_step_exchange.h"
 #include "fluid/node_exchange_types.h"
 #include "parallel/thread_pool.h"
@@ -199,9 +200,11 @@ class MomentumExchange final : private fluid::InStepExchange {
   // against 7.4-7.6).
   static_assert(kBalanceBlocks + 1 <= 65535, "a part's index must fit part_of_block_'s 16 bits");
   void sort_by_part(parallel::ThreadPool* pool);
-  // visit(p) for the part's particles p, in index order.
+  // visit(p) for the part's particles p, in index order. Always inlined: called inside
+  // run_with_isa, it is then compiled for the CPU's instruction set with its caller (out of line
+  // it was compiled for the baseline, and slot_of_cell's popcount became a library call).
   template <class Visit>
-  void for_each_particle(const Part& part, const Visit& visit) const;
+  LBSOLID_FORCE_INLINE void for_each_particle(const Part& part, const Visit& visit) const;
   // Marks the cells of the part's particles (and counts them by block for the next cut).
   void mark_cells(Part& part);
   // Lists the part's marked nodes in cell order, their sums zero. The marks stay until the next
@@ -331,7 +334,7 @@ void MomentumExchange::for_extra_slots(parallel::ThreadPool* pool, const Work& w
 }
 
 template <class Visit>
-void MomentumExchange::for_each_particle(const Part& part, const Visit& visit) const {
+LBSOLID_FORCE_INLINE void MomentumExchange::for_each_particle(const Part& part, const Visit& visit) const {
   if (sorted_) {
     const std::uint32_t* __restrict order = order_.data();
     for (long i = part.first_particle; i < part.end_particle; ++i) visit(static_cast<long>(order[i]));
