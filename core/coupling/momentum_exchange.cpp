@@ -195,6 +195,10 @@ void MomentumExchange::begin_listing(int dimension, int parts, parallel::ThreadP
   slots_.dimension = dimension;
   anchors_present_ = anchors;
   velocity_over_sums_ = false;
+  // The anchor counts need their zeroing pass; the listed slots' masses and momenta do not, where
+  // the last step's exchange left every mass zero (masses_cleared_: sum_particles starts afresh).
+  sums_start_cleared_ = masses_cleared_ && !anchors;
+  masses_cleared_ = false;
   long moves = 0;
   relisted_ = !keep_listing(parts, pool, moves);
   if (relisted_) {
@@ -213,7 +217,7 @@ void MomentumExchange::sum_part(const Part& part, const std::vector<double>& mas
     list_nodes(part);
     sum_particles<true>(part, mass, momentum, anchored);
   } else {
-    zero_sums(part.base, part.count);
+    if (!sums_start_cleared_) zero_sums(part.base, part.count);
     sum_particles<false>(part, mass, momentum, anchored);
   }
 }
@@ -256,8 +260,8 @@ const double* MomentumExchange::exchange(std::uint32_t first_slot, long count, c
   if (velocity_over_sums_) {
     for (long at = d * from; at < d * to; at += kLine) __builtin_prefetch(slots_.momentum.data() + at, 1);
     double* velocity = slots_.momentum.data() + first;
-    if (d == 2) common_velocities<2>(first_slot, count, fluid, velocity, room);
-    else common_velocities<3>(first_slot, count, fluid, velocity, room);
+    if (d == 2) common_velocities<2, true>(first_slot, count, fluid, velocity, room);
+    else common_velocities<3, true>(first_slot, count, fluid, velocity, room);
     return room;
   }
   for (long at = d * from; at < d * to; at += kLine) {
@@ -414,8 +418,13 @@ void MomentumExchange::sum_particles(const Part& part, const std::vector<double>
           ++slot_anchors[slot];
           return;
         }
+        // A node whose mass is still zero has no particle summed yet: its momentum starts from
+        // zero whatever the slot held (u*, after a step that cleared the masses), so that the sums
+        // are those of a zeroed slot bit for bit (0 + x, as after zero_sums).
+        const bool first_here = slot_mass[slot] == 0;
         slot_mass[slot] += masses[p];
-        for (int a = 0; a < D; ++a) slot_momentum[slot * D + a] += momenta[p * D + a];
+        for (int a = 0; a < D; ++a)
+          slot_momentum[slot * D + a] = (first_here ? 0.0 : slot_momentum[slot * D + a]) + momenta[p * D + a];
       });
     });
   };
@@ -431,21 +440,27 @@ void MomentumExchange::clear_marks(const Part& part) {
   for (long w = first_word(part), end = end_word(part); w < end; ++w) marks_[w].cells = 0;
 }
 
-template <int D>
+template <int D, bool kClearMass>
 void MomentumExchange::common_velocities(long first, long count, const fluid::DensityMomentum* read,
                                           double* velocity, double* __restrict gained) {
   // The usual case (common-velocity rule, no anchors), without branches.
-  const double* __restrict mass = slots_.mass.data() + first;
+  double* __restrict mass = slots_.mass.data() + first;
   const double* momentum = slots_.momentum.data() + D * first;
   for (long k = 0; k < count; ++k) {
-    const double inverse_mass = 1.0 / (read[k].rho + mass[k]);
+    const double node_mass = mass[k];
+    const double inverse_mass = 1.0 / (read[k].rho + node_mass);
+    // A node left without particles (its slot kept) has no momentum: its slot may still hold the
+    // last step's u* where the masses were cleared (sum_particles starts a node at its first
+    // particle). Elsewhere a zero mass comes with a zero sum, so this changes no value.
+    const bool empty = node_mass == 0;
     double sum[D];
-    for (int a = 0; a < D; ++a) sum[a] = momentum[D * k + a];
+    for (int a = 0; a < D; ++a) sum[a] = empty ? 0.0 : momentum[D * k + a];
     for (int a = 0; a < D; ++a) {
       const double u = (read[k].momentum[a] + sum[a]) * inverse_mass;
       velocity[D * k + a] = u;
-      gained[D * k + a] = sum[a] - mass[k] * u;
+      gained[D * k + a] = sum[a] - node_mass * u;
     }
+    if constexpr (kClearMass) mass[k] = 0;  // its line is in the cache: the next sums need no zeroing pass
   }
 }
 
@@ -454,8 +469,8 @@ void MomentumExchange::node_velocities(long first, long count, const fluid::Dens
   const int d = slots_.dimension;
   if (rule_ == ExchangeRule::kCommonVelocity && !anchors_present_) {
     double* velocity = slots_.velocity.data() + d * first;
-    if (d == 2) common_velocities<2>(first, count, read, velocity, gained_from_first);
-    else common_velocities<3>(first, count, read, velocity, gained_from_first);
+    if (d == 2) common_velocities<2, false>(first, count, read, velocity, gained_from_first);
+    else common_velocities<3, false>(first, count, read, velocity, gained_from_first);
     return;
   }
   for (long s = first; s < first + count; ++s) {

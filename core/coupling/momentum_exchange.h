@@ -255,7 +255,9 @@ class MomentumExchange final : private fluid::InStepExchange {
   void node_velocities(long first, long count, const fluid::DensityMomentum* read, double* gained);
   // The same on the common-velocity rule without anchors: u* into velocity[D k ...], which may
   // be the slots' summed momenta themselves (a node's are read before its u* is written).
-  template <int D>
+  // kClearMass (inside the fluid's step): each node's mass is set to zero once read
+  // (masses_cleared_).
+  template <int D, bool kClearMass>
   void common_velocities(long first, long count, const fluid::DensityMomentum* read, double* velocity, double* gained);
   // Where the last exchange put each slot's u* (particle_dp()).
   const std::vector<double>& compared_velocity() const { return velocity_over_sums_ ? slots_.momentum : slots_.velocity; }
@@ -310,6 +312,14 @@ class MomentumExchange final : private fluid::InStepExchange {
   // back no array of velocities or gains: 16 B a node each in 2D (docs/performance.md).
   bool velocity_over_sums_ = false;
   bool keep_gains_ = false;
+  // On that path the exchange also sets each node's mass to zero as it reads it (its line is in
+  // the cache then). A step_fluid() that completes so has visited every listed node
+  // (step_exchanging exchanges each marked node once), so it leaves every slot's mass zero:
+  // the next compute_sums() keeping the listing then sums without first zeroing the parts' slots
+  // (24 B a node written, in 2D), a node's momentum starting afresh at its first particle
+  // (sum_particles). Any other exchange in between clears the flag.
+  bool masses_cleared_ = false;
+  bool sums_start_cleared_ = false;  // this exchange's sums: masses_cleared_ at its start
   Slots slots_;
   std::vector<fluid::Vec3> pairwise_dp_;  // the pairwise rule: per particle
 };
@@ -419,6 +429,7 @@ void MomentumExchange::step_fluid(Fluid& fluid) {
   other_marks = extra_slots_ > 0 ? extra_marks_.data() : nullptr;
   velocity_over_sums_ = !anchors_present_ && !keep_gains_;
   fluid.step_exchanging(*this);
+  masses_cleared_ = velocity_over_sums_;  // only once the step is complete (a throw leaves it false)
 }
 
 template <class Fluid>

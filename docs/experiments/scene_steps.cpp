@@ -2,7 +2,7 @@
 // step (with `clock`, each stage's ns a particle), so that two builds can be compared in
 // separate processes run alternately, and one build linked several ways (padded_links.sh).
 //   scene_steps SCENE STEPS THREADS [clock]   SCENE: 2d01, 2d1 (D2Q7 sheets at 0.1 and 1 a
-//   cell), 3d (the D3Q19 suspension), 3dbox (its box without balls)
+//   cell), 2dbox (their box without sheets), 3d (the D3Q19 suspension), 3dbox (its box without balls)
 // Build (from the tree's root, after building ./build):
 //   g++ -std=c++20 -O3 -DNDEBUG -ffp-contract=off -Icore -Itests docs/experiments/scene_steps.cpp \
 //     build/core/liblbsolid_core.a -lpthread -o scene_steps
@@ -25,11 +25,11 @@ int main(int argc, char** argv) {
   if (which == "3d" || which == "3dbox") {
     s = bench::suspension_3d(96, 3, threads);
     if (which == "3dbox") s.bodies.clear();
-  } else if (which == "2d1" || which == "2d01") {
+  } else if (which == "2d1" || which == "2d01" || which == "2dbox") {
     s = bench::paper_box(1024, threads);
-    bench::add_sheets(s, which == "2d1" ? 1.0 : 0.1);
+    if (which != "2dbox") bench::add_sheets(s, which == "2d1" ? 1.0 : 0.1);
   } else {
-    std::fprintf(stderr, "scene: 2d01, 2d1, 3d or 3dbox, not '%s'\n", which.c_str());
+    std::fprintf(stderr, "scene: 2d01, 2d1, 2dbox, 3d or 3dbox, not '%s'\n", which.c_str());
     return 2;
   }
   auto sim = scene::build_simulation(s);
