@@ -246,8 +246,8 @@ std::uint32_t MomentumExchange::other_slot(long cell) const {
   return static_cast<std::uint32_t>(entry);
 }
 
-const double* MomentumExchange::exchange(std::uint32_t first_slot, long count, const fluid::DensityMomentum* fluid,
-                                         double* room) {
+void MomentumExchange::exchange(std::uint32_t first_slot, long count, const fluid::NodesFluid& fluid,
+                                fluid::NodesGain& gained) {
   // The step reaches the nodes in cell order, the order of their slots (but for the few listed
   // since): every line of the slots kStepPrefetchAhead on is asked for now (their lines are long
   // evicted by the step; asking for one line an array a call missed most of them in 3D).
@@ -255,21 +255,28 @@ const double* MomentumExchange::exchange(std::uint32_t first_slot, long count, c
   const long to = std::min(from + count, slots_.size());
   const int d = slots_.dimension;
   constexpr long kLine = 64 / sizeof(double);
-  for (long at = from; at < to; at += kLine) __builtin_prefetch(slots_.mass.data() + at);
+  for (long at = from; at < to; at += kLine) __builtin_prefetch(slots_.mass.data() + at, 1);
   const long first = d * static_cast<long>(first_slot);
   if (velocity_over_sums_) {
     for (long at = d * from; at < d * to; at += kLine) __builtin_prefetch(slots_.momentum.data() + at, 1);
-    double* velocity = slots_.momentum.data() + first;
-    if (d == 2) common_velocities<2, true>(first_slot, count, fluid, velocity, room);
-    else common_velocities<3, true>(first_slot, count, fluid, velocity, room);
-    return room;
+    fluid::run_with_isa(fluid::kernel_isa(), [&]() LBSOLID_FORCE_INLINE_LAMBDA {
+      if (d == 2) in_step_velocities<2>(first_slot, count, fluid, gained);
+      else in_step_velocities<3>(first_slot, count, fluid, gained);
+    });
+    return;
   }
   for (long at = d * from; at < d * to; at += kLine) {
     __builtin_prefetch(slots_.momentum.data() + at);
     __builtin_prefetch(slots_.velocity.data() + at, 1);
   }
-  node_velocities(first_slot, count, fluid, slots_.gained.data() + first);
-  return slots_.gained.data() + first;
+  // Anchors, or the gains kept (keep_gains): node by node as around the step, the gains then
+  // handed over axis by axis.
+  fluid::DensityMomentum read[fluid::kNodesAtOnce] = {};  // (count of them set)
+  for (long k = 0; k < count; ++k) read[k] = fluid.node(k);
+  const double* kept = slots_.gained.data() + first;
+  node_velocities(first_slot, count, read, slots_.gained.data() + first);
+  for (long k = 0; k < count; ++k)
+    for (int a = 0; a < d; ++a) gained.momentum[a][k] = kept[d * k + a];
 }
 
 bool MomentumExchange::keep_listing(int parts, parallel::ThreadPool* pool, long& moves) {
@@ -440,27 +447,59 @@ void MomentumExchange::clear_marks(const Part& part) {
   for (long w = first_word(part), end = end_word(part); w < end; ++w) marks_[w].cells = 0;
 }
 
-template <int D, bool kClearMass>
+namespace {
+
+// u* at a node and what its fluid gains there, from its fluid (density rho, momentum j) and its
+// particles' sums (mass m, momentum sum[0, D)): the common-velocity rule. A node left without
+// particles (its slot kept) has no momentum, whatever its slot holds: after a step that cleared
+// the masses, the last step's u* (sum_particles starts a node afresh at its first particle).
+// Elsewhere a zero mass comes with a zero sum, so this changes no value.
+template <int D>
+LBSOLID_FORCE_INLINE void common_velocity(double rho, const double (&j)[D], double m, const double* sum,
+                                          double (&u)[D], double (&gain)[D]) {
+  const double inverse_mass = 1.0 / (rho + m);
+  // As bits, not a branch: the loop stays one of vectors (with a select GCC branched, node by node).
+  const std::uint64_t keep = m == 0 ? 0 : ~std::uint64_t{0};
+  for (int a = 0; a < D; ++a) {
+    const double s = std::bit_cast<double>(std::bit_cast<std::uint64_t>(sum[a]) & keep);
+    u[a] = (j[a] + s) * inverse_mass;
+    gain[a] = s - m * u[a];
+  }
+}
+
+}  // namespace
+
+template <int D>
 void MomentumExchange::common_velocities(long first, long count, const fluid::DensityMomentum* read,
-                                          double* velocity, double* __restrict gained) {
+                                          double* __restrict velocity, double* __restrict gained) {
   // The usual case (common-velocity rule, no anchors), without branches.
-  double* __restrict mass = slots_.mass.data() + first;
-  const double* momentum = slots_.momentum.data() + D * first;
+  const double* __restrict mass = slots_.mass.data() + first;
+  const double* __restrict momentum = slots_.momentum.data() + D * first;
   for (long k = 0; k < count; ++k) {
-    const double node_mass = mass[k];
-    const double inverse_mass = 1.0 / (read[k].rho + node_mass);
-    // A node left without particles (its slot kept) has no momentum: its slot may still hold the
-    // last step's u* where the masses were cleared (sum_particles starts a node at its first
-    // particle). Elsewhere a zero mass comes with a zero sum, so this changes no value.
-    const bool empty = node_mass == 0;
-    double sum[D];
-    for (int a = 0; a < D; ++a) sum[a] = empty ? 0.0 : momentum[D * k + a];
+    double j[D], u[D], gain[D];
+    for (int a = 0; a < D; ++a) j[a] = read[k].momentum[a];
+    common_velocity<D>(read[k].rho, j, mass[k], momentum + D * k, u, gain);
     for (int a = 0; a < D; ++a) {
-      const double u = (read[k].momentum[a] + sum[a]) * inverse_mass;
-      velocity[D * k + a] = u;
-      gained[D * k + a] = sum[a] - node_mass * u;
+      velocity[D * k + a] = u[a];
+      gained[D * k + a] = gain[a];
     }
-    if constexpr (kClearMass) mass[k] = 0;  // its line is in the cache: the next sums need no zeroing pass
+  }
+}
+
+template <int D>
+LBSOLID_FORCE_INLINE void MomentumExchange::in_step_velocities(long first, long count, const fluid::NodesFluid& fluid,
+                                                               fluid::NodesGain& gained) {
+  double* __restrict mass = slots_.mass.data() + first;
+  double* __restrict sums = slots_.momentum.data() + D * first;  // each node's u* goes over its sum
+  for (long k = 0; k < count; ++k) {
+    double j[D], u[D], gain[D];
+    for (int a = 0; a < D; ++a) j[a] = fluid.momentum[a][k];
+    common_velocity<D>(fluid.rho[k], j, mass[k], sums + D * k, u, gain);
+    for (int a = 0; a < D; ++a) {
+      sums[D * k + a] = u[a];
+      gained.momentum[a][k] = gain[a];
+    }
+    mass[k] = 0;  // its line is in the cache: the next sums need no zeroing pass
   }
 }
 
@@ -469,8 +508,8 @@ void MomentumExchange::node_velocities(long first, long count, const fluid::Dens
   const int d = slots_.dimension;
   if (rule_ == ExchangeRule::kCommonVelocity && !anchors_present_) {
     double* velocity = slots_.velocity.data() + d * first;
-    if (d == 2) common_velocities<2, false>(first, count, read, velocity, gained_from_first);
-    else common_velocities<3, false>(first, count, read, velocity, gained_from_first);
+    if (d == 2) common_velocities<2>(first, count, read, velocity, gained_from_first);
+    else common_velocities<3>(first, count, read, velocity, gained_from_first);
     return;
   }
   for (long s = first; s < first + count; ++s) {

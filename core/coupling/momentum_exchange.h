@@ -155,7 +155,7 @@ class MomentumExchange final : private fluid::InStepExchange {
   // run of slots (node_velocities).
   std::uint32_t other_slot(long cell) const override;
   void prefetch_other_slot(long cell) const override;
-  const double* exchange(std::uint32_t first_slot, long count, const fluid::DensityMomentum* fluid, double* room) override;
+  void exchange(std::uint32_t first_slot, long count, const fluid::NodesFluid& fluid, fluid::NodesGain& gained) override;
   // Every listed node, slot by slot (part k's from base[k] on): the node, the total mass and
   // momentum of its particles, the velocity its particles are compared with (u*, or the fluid's u
   // for the pairwise rule), and what its fluid gains. The fluid read there is used as it is read,
@@ -253,12 +253,16 @@ class MomentumExchange final : private fluid::InStepExchange {
   // The comparison velocity and gain of the `count` nodes listed from slot `first` on, given
   // their fluid as read (`read[k]` for slot first + k); the gains into gained[dimension k ...].
   void node_velocities(long first, long count, const fluid::DensityMomentum* read, double* gained);
-  // The same on the common-velocity rule without anchors: u* into velocity[D k ...], which may
-  // be the slots' summed momenta themselves (a node's are read before its u* is written).
-  // kClearMass (inside the fluid's step): each node's mass is set to zero once read
-  // (masses_cleared_).
-  template <int D, bool kClearMass>
+  // The same on the common-velocity rule without anchors: u* into velocity[D k ...].
+  template <int D>
   void common_velocities(long first, long count, const fluid::DensityMomentum* read, double* velocity, double* gained);
+  // common_velocities() inside the fluid's step without anchors (velocity_over_sums_), the
+  // fluid and the gains axis by axis: each node's u* over its summed momentum (read just before)
+  // and its mass set to zero once read (masses_cleared_). Always inlined: called inside
+  // run_with_isa, so that it is compiled for the CPU's vectors.
+  template <int D>
+  LBSOLID_FORCE_INLINE void in_step_velocities(long first, long count, const fluid::NodesFluid& fluid,
+                                               fluid::NodesGain& gained);
   // Where the last exchange put each slot's u* (particle_dp()).
   const std::vector<double>& compared_velocity() const { return velocity_over_sums_ ? slots_.momentum : slots_.velocity; }
   // The pairwise rule: each particle's dP (eq. 14) and its node's gain, their sum.

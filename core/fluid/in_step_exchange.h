@@ -33,13 +33,12 @@ class InStepExchange {
   // Asks for what other_slot(cell) will read, where that is memory the cache may not hold (the
   // step calls it for a word's other nodes before it exchanges the word's nodes).
   virtual void prefetch_other_slot(long /*cell*/) const {}
-  // The exchange of nodes first_slot .. first_slot + count - 1 given their fluid (`fluid[k]` for
-  // slot first_slot + k: density, and momentum sum_i f_i c_i + F/2 as gather_momenta reads it
-  // before the step): returns the momentum their fluid gains (D values a node, valid until the
-  // next call for those slots). `room` holds D * count values the exchange may write the gains
-  // to and return (the step's own, in the cache). Called from several threads at once, for
-  // different slots.
-  virtual const double* exchange(std::uint32_t first_slot, long count, const DensityMomentum* fluid, double* room) = 0;
+  // The exchange of nodes first_slot .. first_slot + count - 1 (count <= kNodesAtOnce) given
+  // their fluid (node k of `fluid` for slot first_slot + k: density, and momentum
+  // sum_i f_i c_i + F/2 as gather_momenta reads it before the step): writes the momentum their
+  // fluid gains into `gained` (the step's own, in the cache; node k at [k]). Called from several
+  // threads at once, for different slots.
+  virtual void exchange(std::uint32_t first_slot, long count, const NodesFluid& fluid, NodesGain& gained) = 0;
 
  protected:
   ~InStepExchange() = default;

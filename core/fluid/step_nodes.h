@@ -42,25 +42,30 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
     run_with_isa(kernel_isa(), [&]() LBSOLID_FORCE_INLINE_LAMBDA {
       for_each_run(word_first, bits, [&](long cell, int n, bool interior) LBSOLID_FORCE_INLINE_LAMBDA {
         const int blocks = interior && !in_blocks_ ? n / kRunBlock : 0;
-        for (int b = 0; b < blocks; ++b) read_block(cell + b * kRunBlock, read_ + count + b * kRunBlock);
-        for (int k = blocks * kRunBlock; k < n; ++k) read_[count + k] = read(cell + k);
+        for (int b = 0; b < blocks; ++b) read_block(cell + b * kRunBlock, count + b * kRunBlock);
+        for (int k = blocks * kRunBlock; k < n; ++k) read_.set(count + k, read(cell + k));
         count += n;
       });
     });
-    const double* gain = exchange_.exchange(first_slot, count, read_, gains_);
+    exchange_.exchange(first_slot, count, read_, gains_);
     count = 0;
     run_with_isa(kernel_isa(), [&]() LBSOLID_FORCE_INLINE_LAMBDA {
       for_each_run(word_first, bits, [&](long cell, int n, bool interior) LBSOLID_FORCE_INLINE_LAMBDA {
         const int blocks = interior && slots_.plain && !in_blocks_ ? n / kRunBlock : 0;
-        for (int b = 0; b < blocks; ++b) add_block(cell + b * kRunBlock, gain + D * (count + b * kRunBlock));
-        for (int k = blocks * kRunBlock; k < n; ++k) add(cell + k, gain + D * (count + k));
+        for (int b = 0; b < blocks; ++b) add_block(cell + b * kRunBlock, count + b * kRunBlock);
+        for (int k = blocks * kRunBlock; k < n; ++k) add(cell + k, gain_of(count + k));
         count += n;
       });
     });
   }
   void other_node(long cell) override {
-    const DensityMomentum fluid = read(cell);
-    add(cell, exchange_.exchange(exchange_.other_slot(cell), 1, &fluid, gains_));
+    read_.set(0, read(cell));
+    exchange_.exchange(exchange_.other_slot(cell), 1, read_, gains_);
+    add(cell, gain_of(0));
+  }
+  // Node k's gain, as add() takes it.
+  std::array<double, 3> gain_of(long k) const {
+    return {gains_.momentum[0][k], gains_.momentum[1][k], D == 3 ? gains_.momentum[2][k] : 0.0};
   }
   void prefetch_other_node(long cell) override { exchange_.prefetch_other_slot(cell); }
 
@@ -123,8 +128,9 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
       for (int a = 0; a < 3; ++a) fluid.momentum[a] -= plan_->force[a];
     return fluid;
   }
-  // read() for the kRunBlock inner nodes from `cell` on (slots_ and plan_ theirs), into out[0, kRunBlock).
-  LBSOLID_FORCE_INLINE void read_block(long cell, DensityMomentum* out) const {
+  // read() for the kRunBlock inner nodes from `cell` on (slots_ and plan_ theirs), into read_'s
+  // nodes [at, at + kRunBlock).
+  LBSOLID_FORCE_INLINE void read_block(long cell, long at) {
     double drho[kRunBlock] = {}, j[3][kRunBlock] = {};
     // density_momentum_of()'s sums, direction by direction, across the nodes.
     [&]<int... I>(std::integer_sequence<int, I...>) LBSOLID_FORCE_INLINE_LAMBDA {
@@ -141,23 +147,26 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
       }(), ...);
     }(std::make_integer_sequence<int, Q>{});
     const bool force = fluid_.has_force_;
-    for (int k = 0; k < kRunBlock; ++k) {
-      out[k].rho = fluid_.config_.rho0 + drho[k];
-      for (int a = 0; a < 3; ++a) {
-        out[k].momentum[a] = j[a][k] + (force ? 0.5 * plan_->force[a] : 0.0);
-        if (force) out[k].momentum[a] -= plan_->force[a];
+    for (int k = 0; k < kRunBlock; ++k) read_.rho[at + k] = fluid_.config_.rho0 + drho[k];
+    for (int a = 0; a < 3; ++a) {
+      double* __restrict out = read_.momentum[a] + at;
+      for (int k = 0; k < kRunBlock; ++k) {
+        out[k] = j[a][k] + (force ? 0.5 * plan_->force[a] : 0.0);
+        if (force) out[k] -= plan_->force[a];
       }
     }
   }
 
-  // Its gain (D values), through the slots read() last worked out: the cells of one row part.
-  void add(long cell, const double* gain) {
+  // Its gain, through the slots read() last worked out: the cells of one row part.
+  void add(long cell, const std::array<double, 3>& gain) {
     if (RowPlans<L, T>::part_of(static_cast<int>(cell - row_first_), fluid_.config_.nx) != part_) locate(cell);
-    if (in_blocks_) fluid_.template add_at<true>(f_, slots_, cell, gain);
-    else fluid_.template add_at<false>(f_, slots_, cell, gain);
+    if (in_blocks_) fluid_.template add_at<true>(f_, slots_, cell, gain.data());
+    else fluid_.template add_at<false>(f_, slots_, cell, gain.data());
   }
-  // add() for the kRunBlock inner nodes from `cell` on (slots_ theirs, plain), gain k at dp + D k.
-  LBSOLID_FORCE_INLINE void add_block(long cell, const double* dp) {
+  // add() for the kRunBlock inner nodes from `cell` on (slots_ theirs, plain), the gains of
+  // gains_'s nodes [at, at + kRunBlock).
+  LBSOLID_FORCE_INLINE void add_block(long cell, long at) {
+    const double* __restrict dp[3] = {gains_.momentum[0] + at, gains_.momentum[1] + at, gains_.momentum[2] + at};
     constexpr auto opp = lattice::opposite_table<L>();
     // add_at()'s terms, a pair of opposite directions at a time, across the nodes.
     [&]<int... I>(std::integer_sequence<int, I...>) LBSOLID_FORCE_INLINE_LAMBDA {
@@ -167,9 +176,9 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
           double term[kRunBlock];
           for (int k = 0; k < kRunBlock; ++k) {
             double c_dot_dp = 0;
-            c_dot_dp = lattice::add_c<L, I, 0>(c_dot_dp, dp[D * k]);
-            c_dot_dp = lattice::add_c<L, I, 1>(c_dot_dp, dp[D * k + 1]);
-            if constexpr (D == 3) c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[D * k + 2]);
+            c_dot_dp = lattice::add_c<L, I, 0>(c_dot_dp, dp[0][k]);
+            c_dot_dp = lattice::add_c<L, I, 1>(c_dot_dp, dp[1][k]);
+            if constexpr (D == 3) c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[2][k]);
             term[k] = L::w[I] * c_dot_dp / L::cs2;
           }
           T* __restrict to_i = f_ + cell + slots_.offset[I];
@@ -186,8 +195,8 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
   T* f_;
   bool local_;
   bool in_blocks_;  // the populations are in blocks: no runs in vectors
-  DensityMomentum read_[64];  // a word's nodes' fluid
-  double gains_[64 * 3];      // room for their gains
+  NodesFluid read_;  // a word's nodes' fluid
+  NodesGain gains_;  // and their gains
   // The row of the last node and its first cell (none yet: no cell is within nx of it).
   long row_ = -1, row_first_ = -(1L << 62);
   const RowPlan<T, Q>* plan_ = nullptr;

@@ -509,7 +509,9 @@ void expect_in_step_exchange_alike(const fluid::FluidConfig& config, long partic
           for (int k = 0; k < 3; ++k) ASSERT_NEAR(sa[k], sb[k], 1e-13) << context << ", anchor " << p;
         }
       }
-      if (!anchors) ASSERT_THROW(in_step.exchanged(), std::logic_error) << context;
+      if (!anchors) {
+        ASSERT_THROW(in_step.exchanged(), std::logic_error) << context;
+      }
       const ExchangedNodes nodes_apart = apart.exchanged(), nodes_in_step = (anchors ? in_step : fresh).exchanged();
       ASSERT_EQ(nodes_apart.nodes, nodes_in_step.nodes) << context;
       for (long n = 0; n < nodes_apart.size(); ++n)

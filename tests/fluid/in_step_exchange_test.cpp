@@ -73,12 +73,12 @@ class TestExchange final : public fluid::InStepExchange {
       if (cell_[s] == cell && (others_[static_cast<std::size_t>(cell >> 6)] >> (cell & 63) & 1)) return static_cast<std::uint32_t>(s);
     throw std::logic_error("no such other node");
   }
-  // The gains kept (gain()) and handed back in the step's room, as MomentumExchange does inside
-  // the step without anchors.
-  const double* exchange(std::uint32_t first_slot, long count, const DensityMomentum* fluid, double* room) override {
-    for (long k = 0; k < count; ++k) compare(first_slot + k, fluid[k]);
-    std::copy_n(gain_.data() + D * first_slot, D * count, room);
-    return room;
+  // The gains kept (gain()) and written into the step's own, axis by axis.
+  void exchange(std::uint32_t first_slot, long count, const fluid::NodesFluid& fluid, fluid::NodesGain& gained) override {
+    for (long k = 0; k < count; ++k) {
+      compare(first_slot + k, fluid.node(k));
+      for (int a = 0; a < D; ++a) gained.momentum[a][k] = gain_[D * (first_slot + k) + a];
+    }
   }
 
   // The slots' nodes, for the calls around the step.
