@@ -255,7 +255,7 @@ void MomentumExchange::exchange(std::uint32_t first_slot, long count, const flui
   const long to = std::min(from + count, slots_.size());
   const int d = slots_.dimension;
   constexpr long kLine = 64 / sizeof(double);
-  for (long at = from; at < to; at += kLine) __builtin_prefetch(slots_.mass.data() + at, 1);
+  for (long at = from; at < to; at += kLine) __builtin_prefetch(slots_.mass.data() + at);
   const long first = d * static_cast<long>(first_slot);
   if (velocity_over_sums_) {
     for (long at = d * from; at < d * to; at += kLine) __builtin_prefetch(slots_.momentum.data() + at, 1);
