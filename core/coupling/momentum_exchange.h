@@ -312,7 +312,7 @@ class MomentumExchange final : private fluid::InStepExchange {
   bool anchors_present_ = false;  // the last compute() was given anchors
   // Inside the fluid's step, on the common-velocity rule without anchors and unless keep_gains_:
   // each node's u* is written over its summed momentum (read just before, by nothing after) and
-  // its gain into the step's room, which the step adds at once. The step then fetches and writes
+  // its gain into the step's NodesGain, which the step adds at once. The step then fetches and writes
   // back no array of velocities or gains: 16 B a node each in 2D (docs/performance.md).
   bool velocity_over_sums_ = false;
   bool keep_gains_ = false;
