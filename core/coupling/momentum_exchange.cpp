@@ -191,6 +191,14 @@ void MomentumExchange::mark_cells(Part& part) {
   part.count = marked;
 }
 
+void MomentumExchange::begin_locate(long n) {
+  cell_.resize(n);
+  moves_.clear();
+  // Moves are noted only where a listing could be kept, and not beyond what would make it relist.
+  locate_noting_ = listed_ && static_cast<long>(listed_cell_.size()) == n;
+  locate_allowed_ = std::max(0L, listed_slots_ / kRelistDivisor - moves_since_listing_);
+}
+
 void MomentumExchange::begin_listing(int dimension, int parts, parallel::ThreadPool* pool, bool anchors) {
   slots_.dimension = dimension;
   anchors_present_ = anchors;

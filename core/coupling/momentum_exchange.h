@@ -36,6 +36,7 @@
 // instead of before); each is the same bit for bit whatever the threads and the listing.
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <vector>
@@ -82,6 +83,11 @@ class MomentumExchange final : private fluid::InStepExchange {
   // The same, a range at a time: fill(first, end, cells) writes cells[p] for p in [first, end).
   template <class Fill>
   void locate_ranges(long n, const Fill& fill, parallel::ThreadPool* pool = nullptr, int parts = 1);
+  // locate_ranges() for a caller that walks the particles itself, in ranges that cover [0, n)
+  // (the solid's step, as it stores their positions): begin_locate(n), then a RangeLocator for
+  // each range, on any thread, given the range's particles a block at a time in order.
+  void begin_locate(long n);
+  class RangeLocator;
   // The exchange of the located particles, `mass[p]` and `momentum[p]` describing particle p;
   // `fluid` answers gather_momenta(nodes, count, out) with the pre-collision density and momentum
   // of each node (FluidLattice's batched call; with a pool, from several threads at once).
@@ -289,6 +295,11 @@ class MomentumExchange final : private fluid::InStepExchange {
   };
   std::vector<CellIndex> listed_cell_;   // per particle: the cell of its slot, as last listed or moved
   std::vector<Moves> moves_;             // from the last locate(), one a range, in no set order
+  std::unique_ptr<std::mutex> moves_mutex_ = std::make_unique<std::mutex>();  // a range adding its moves
+  // Set by begin_locate(): whether moves are noted (a listing could be kept), and how many at
+  // most, beyond which the next exchange lists afresh anyway.
+  bool locate_noting_ = false;
+  long locate_allowed_ = 0;
   bool listed_ = false;                  // the marks and slots hold a listing
   bool relisted_ = false;                // the last compute() listed afresh
   bool part_changed_ = false;            // keep_listing(): some moved particle is another part's now
@@ -358,6 +369,49 @@ LBSOLID_FORCE_INLINE void MomentumExchange::for_each_particle(const Part& part, 
   for (long p = 0; p < n; ++p) visit(p);
 }
 
+// One range's share of a locate (MomentumExchange::begin_locate).
+class MomentumExchange::RangeLocator {
+ public:
+  explicit RangeLocator(MomentumExchange& exchange) : exchange_(&exchange) {}
+  // The next block of the range, [first, end): fill(first, end, cells) writes cells[p] for p in
+  // it; the particles whose cell differs from the listed one are noted.
+  template <class Fill>
+  void operator()(long first, long end, const Fill& fill);
+  // Hands the range's moves to the exchange, after its last block.
+  void finish() {
+    std::lock_guard lock(*exchange_->moves_mutex_);
+    exchange_->moves_.push_back(std::move(moves_));
+  }
+
+ private:
+  MomentumExchange* exchange_;
+  Moves moves_;
+};
+
+template <class Fill>
+void MomentumExchange::RangeLocator::operator()(long first, long end, const Fill& fill) {
+  CellIndex* __restrict cells = exchange_->cell_.data();
+  const CellIndex* __restrict listed = exchange_->listed_cell_.data();
+  fill(first, end, cells);
+  if (!exchange_->locate_noting_ || !moves_.all) return;
+  // Groups of kCompareGroup compared without a branch (vector instructions), and only a group
+  // with a move looked into: about one in six at 1% of the particles moving a step.
+  for (long group = first; group < end && moves_.all; group += kCompareGroup) {
+    const long group_end = std::min(end, group + kCompareGroup);
+    CellIndex differ = 0;
+    for (long p = group; p < group_end; ++p) differ |= cells[p] ^ listed[p];
+    if (differ == 0) continue;
+    for (long p = group; p < group_end; ++p) {
+      if (cells[p] == listed[p]) continue;
+      if (static_cast<long>(moves_.particles.size()) == exchange_->locate_allowed_) {
+        moves_.all = false;
+        break;
+      }
+      moves_.particles.push_back(static_cast<std::uint32_t>(p));
+    }
+  }
+}
+
 template <class CellOf>
 void MomentumExchange::locate(long n, const CellOf& cell_of, parallel::ThreadPool* pool, int parts) {
   locate_ranges(
@@ -370,39 +424,11 @@ void MomentumExchange::locate(long n, const CellOf& cell_of, parallel::ThreadPoo
 
 template <class Fill>
 void MomentumExchange::locate_ranges(long n, const Fill& fill, parallel::ThreadPool* pool, int parts) {
-  cell_.resize(n);
-  moves_.clear();
-  // Moves are noted only where a listing could be kept, and not beyond what would make it relist.
-  const bool noting = listed_ && static_cast<long>(listed_cell_.size()) == n;
-  const long allowed = std::max(0L, listed_slots_ / kRelistDivisor - moves_since_listing_);
-  std::mutex noted;
+  begin_locate(n);
   const auto run = [&](long first, long end) {
-    Moves moves;
-    CellIndex* __restrict cells = cell_.data();
-    const CellIndex* __restrict listed = listed_cell_.data();
-    for (long chunk = first; chunk < end; chunk += kLocateChunk) {
-      const long chunk_end = std::min(end, chunk + kLocateChunk);
-      fill(chunk, chunk_end, cells);
-      if (!noting || !moves.all) continue;
-      // Groups of kCompareGroup compared without a branch (vector instructions), and only a group
-      // with a move looked into: about one in six at 1% of the particles moving a step.
-      for (long group = chunk; group < chunk_end && moves.all; group += kCompareGroup) {
-        const long group_end = std::min(chunk_end, group + kCompareGroup);
-        CellIndex differ = 0;
-        for (long p = group; p < group_end; ++p) differ |= cells[p] ^ listed[p];
-        if (differ == 0) continue;
-        for (long p = group; p < group_end; ++p) {
-          if (cells[p] == listed[p]) continue;
-          if (static_cast<long>(moves.particles.size()) == allowed) {
-            moves.all = false;
-            break;
-          }
-          moves.particles.push_back(static_cast<std::uint32_t>(p));
-        }
-      }
-    }
-    std::lock_guard lock(noted);
-    moves_.push_back(std::move(moves));
+    RangeLocator range(*this);
+    for (long chunk = first; chunk < end; chunk += kLocateChunk) range(chunk, std::min(end, chunk + kLocateChunk), fill);
+    range.finish();
   };
   if (pool && parts > 1) pool->parallel_for(n, parts, run);
   else run(0, n);

@@ -69,6 +69,10 @@ class SimulationImpl final : public Simulation {
         coupling_ = std::make_unique<CouplingState>(scene, solid_->particle_count(), rotating);
         coupling_->in_step =
             fluid_->can_exchange_in_step() && coupling_->exchange.rule() == coupling::ExchangeRule::kCommonVelocity;
+        coupling_->nearest_cells = [&locator = locator_](const double* positions, long first, long end,
+                                                        coupling::CellIndex* cells) {
+          locator.nearest_cells(positions, first, end, cells);
+        };
       }
       if (rotating) torque_ = std::make_unique<TorqueRecord>(solid_->particle_count(), solid_->body_count());
       if (solid_->any_anchored()) anchors_ = std::make_unique<AnchorRecord>(solid_->particle_count());

@@ -10,7 +10,9 @@ namespace lbsolid::scene {
 // locate: each particle's nearest node; exchange: the momentum exchange, reading the fluid;
 // fluid: the fluid's step; inject: the exchanged momentum into the fluid; solid: the solid's step
 // with the forces on each particle (loads, the exchange's reaction, wall contact) summed as it
-// goes; monitor: the stability check.
+// goes; monitor: the stability check. Without rotating bodies the solid's step finds the next
+// step's nodes as it moves the particles, in its own time: locate is then near zero after the
+// first step (coupling_state.h).
 enum class Stage { kLocate, kExchange, kFluid, kInject, kSolid, kMonitor };
 inline constexpr int kStageCount = 6;
 

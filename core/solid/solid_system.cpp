@@ -1,6 +1,7 @@
 #include "solid/solid_system.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <set>
@@ -31,6 +32,7 @@ int SolidSystem::add_body(const std::string& name, const std::vector<Label>& lab
     throw std::invalid_argument("labels: a particle of body '" + name + "' has no neighbour (M = K/2 = 0)");
   const auto positions = placed_positions(labels, centre, spacing);
   const int body = body_count();
+  positions_change();
   bodies_.push_back({name, first, n, spacing, load, rotates});
   double total_mass = 0;
   for (int q = 0; q < n; ++q) {
@@ -228,6 +230,7 @@ void SolidSystem::restore(const SolidState& state) {
           if (incoming[(p * links_ + k) * dim_ + a] != 0)
             throw std::invalid_argument("solid state: particle " + std::to_string(p) + " receives along link " +
                                         std::to_string(k) + ", which it does not have");
+  positions_change();
   positions_ = std::move(positions);
   incoming_ = std::move(incoming);
   momentum_ = std::move(momentum);
@@ -244,6 +247,11 @@ void SolidSystem::restore(const SolidState& state) {
       bodies_[b].frame = best_fit_rotation(b);
       if (dimension() == 2) bodies_[b].angle = best_fit_angle(b);
     }
+}
+
+void SolidSystem::positions_change() {
+  static std::atomic<std::uint64_t> last_version{0};
+  positions_version_ = last_version.fetch_add(1, std::memory_order_relaxed) + 1;
 }
 
 void SolidSystem::anchor(int p) {

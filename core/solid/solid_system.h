@@ -108,7 +108,20 @@ class SolidSystem {
   // frames as they are, then the rotating bodies' frames turned to their best fit (above). With a
   // pool, the bodies are cut into `parts` ranges: a body's turn touches only its own particles.
   template <class Force>
-  void stream(const Force& force, parallel::ThreadPool* pool = nullptr, int parts = 1);
+  void stream(const Force& force, parallel::ThreadPool* pool = nullptr, int parts = 1) {
+    stream(force, NoPositionsSeen{}, pool, parts);
+  }
+  // The same, showing the new positions to `seen` as the step stores them, while they are in the
+  // cache: each range of particles the step runs gets `auto range = seen.range()`, then
+  // range(first, end) for each block of its particles, in order, once their positions are final,
+  // and range.finish() after its last (not if the step throws). The coupling finds each
+  // particle's next node so, instead of reading every position again in a pass of its own.
+  template <class Force, class PositionsSeen>
+  void stream(const Force& force, const PositionsSeen& seen, parallel::ThreadPool* pool = nullptr, int parts = 1);
+  // A number that changes whenever the positions may have: taken from one counter for the whole
+  // process, so that two systems share one only where one is a copy of the other, positions
+  // and all. What was worked out from the positions is current while the number is the same.
+  std::uint64_t positions_version() const { return positions_version_; }
   void turn_frames(parallel::ThreadPool* pool = nullptr, int parts = 1) {
     if (!any_rotates_) return;
     const auto turn = [&](long first, long end) {
@@ -192,6 +205,16 @@ class SolidSystem {
   std::vector<double> incoming_;   // f_k(p) at time t, at [(p * links + k) * dim + a], replaced in place
   std::vector<double> base_;       // per particle, during stream(): Psi/M + F/(2M) at [p * dim + a]
   std::vector<double> momentum_;   // Psi of the incoming vectors: read by the exchange, contact and step
+  std::uint64_t positions_version_ = 0;
+  // Called before anything changes the positions: a new positions_version().
+  void positions_change();
+  struct NoPositionsSeen {
+    struct Range {
+      void operator()(int, int) const {}
+      void finish() const {}
+    };
+    Range range() const { return {}; }
+  };
   double* position_at(int p) { return &positions_[static_cast<std::size_t>(p) * dim_]; }
   double* incoming_at(int p, int k) { return &incoming_[(static_cast<std::size_t>(p) * links_ + k) * dim_]; }
   // Per dimension (Links = 4 or 6, Links / 2 components) so that the loops unroll and opp(k) is a
@@ -241,8 +264,8 @@ void SolidSystem::for_parts(parallel::ThreadPool* pool, int parts, const Range& 
   else range(0, n);
 }
 
-template <class Force>
-void SolidSystem::stream(const Force& force, parallel::ThreadPool* pool, int parts) {
+template <class Force, class PositionsSeen>
+void SolidSystem::stream(const Force& force, const PositionsSeen& seen, parallel::ThreadPool* pool, int parts) {
   // In place: a link's two vectors, f_k(q) (from p) and f_opp(k)(p) (from q), are each replaced
   // from the other and their senders' bases, so the step needs no second buffer of link vectors
   // (a quarter of a 2D particle's bytes, a third of a 3D one's). A link is done at its higher
@@ -252,6 +275,7 @@ void SolidSystem::stream(const Force& force, parallel::ThreadPool* pool, int par
   // link between two parts, and the sums of the particles within reach_ of a part's ends, wait
   // until all parts are done. Every value is worked out as with two buffers, and every momentum
   // summed once in link order: the result is the same for any parts, bit for bit.
+  positions_change();
   base_.resize(static_cast<std::size_t>(particle_count()) * dim_);
   const bool cubic = links_ == 6;
   const int n = particle_count();
@@ -273,15 +297,18 @@ void SolidSystem::stream(const Force& force, parallel::ThreadPool* pool, int par
   for_parts(pool, parts, [&](int first, int end) {
     const auto [sum_first, sum_end] = inner(first, end);
     long summed = sum_first;
+    auto seen_range = seen.range();
     for (int block = first, block_end; block < end; block = block_end) {
       block_end = block + std::min(kStreamBlock, end - block);
       advance_range(block, block_end, first);
+      seen_range(block, block_end);
       const long ready = block_end == end ? sum_end : std::min<long>(block_end - reach_, sum_end);
       if (ready > summed) {
         sum(summed, ready);
         summed = ready;
       }
     }
+    seen_range.finish();
   });
   if (!pool || parts <= 1) return;  // one part: nothing waits
   for_parts(pool, parts, [&](int first, int end) {  // the links to the part below

@@ -439,6 +439,67 @@ TEST(MomentumExchange, KeptListingGivesWhatAFreshOneGives) {
   }
 }
 
+// Locating a block at a time inside another pass over the particles (begin_locate and a
+// RangeLocator a range, as the solid's step does) against locate_ranges over the same cells: the
+// same listing kept or made afresh at each exchange, and the same dP for every particle bit for
+// bit. The ranges' blocks are of odd sizes (unlike locate's chunks), some exchanges move 1% of
+// the particles (a listing kept) and every tenth a tenth of them (more than a kept listing
+// allows: the ranges stop noting and the next exchange lists afresh).
+TEST(MomentumExchange, LocatingInBlocksGivesWhatLocatingInRangesGives) {
+  const int nx = 90, ny = 50;
+  std::mt19937 random(11);
+  std::uniform_int_distribution<int> any_cell(0, nx * ny - 1), step(-1, 1);
+  std::uniform_real_distribution<double> uniform(0.5, 1.5);
+  std::vector<CellIndex> cells;
+  std::vector<double> mass, momentum;
+  for (int p = 0; p < 3000; ++p) {
+    cells.push_back(static_cast<CellIndex>(any_cell(random)));
+    mass.push_back(uniform(random));
+    momentum.push_back(0.1 * (uniform(random) - 1));
+    momentum.push_back(0.1 * (uniform(random) - 1));
+  }
+  const long n = static_cast<long>(cells.size());
+  const auto fill = [&](long first, long end, CellIndex* out) { std::copy(&cells[first], &cells[end], out + first); };
+  parallel::ThreadPool pool(3);
+  for (int parts : {1, 3}) {
+    parallel::ThreadPool* on = parts > 1 ? &pool : nullptr;
+    MomentumExchange in_ranges({nx, ny, 1}, ExchangeRule::kCommonVelocity);
+    MomentumExchange in_blocks({nx, ny, 1}, ExchangeRule::kCommonVelocity);
+    int kept = 0, relisted = 0;
+    for (int exchange = 0; exchange < 60; ++exchange) {
+      const unsigned moving = exchange % 10 == 9 ? 10 : 100;  // one particle in this many moves
+      for (CellIndex& c : cells) {
+        if (random() % moving != 0) continue;
+        const int x = (static_cast<int>(c % nx) + step(random) + nx) % nx;
+        const int y = (static_cast<int>(c / nx) + step(random) + ny) % ny;
+        c = static_cast<CellIndex>(x + nx * y);
+      }
+      in_ranges.locate_ranges(n, fill, on, parts);
+      in_blocks.begin_locate(n);
+      // Ranges cut as a pool would (their order is no matter), their blocks 1 to 97 particles.
+      for (int r = 0; r < parts; ++r) {
+        MomentumExchange::RangeLocator range(in_blocks);
+        for (long first = n * r / parts, end = n * (r + 1) / parts, block; first < end; first += block) {
+          block = std::min<long>(end - first, 1 + random() % 97);
+          range(first, first + block, fill);
+        }
+        range.finish();
+      }
+      for (MomentumExchange* e : {&in_ranges, &in_blocks}) e->compute(mass, {momentum.data(), 2}, NodeDependentFluid{}, on, parts);
+      const std::string context = std::to_string(parts) + " parts, exchange " + std::to_string(exchange);
+      ASSERT_EQ(in_blocks.relisted(), in_ranges.relisted()) << context;
+      (in_ranges.relisted() ? relisted : kept) += 1;
+      for (long p = 0; p < n; ++p) {
+        const Vec3 psi{momentum[2 * p], momentum[2 * p + 1], 0};
+        ASSERT_EQ(in_blocks.particle_dp<2>(p, psi, mass[p]), in_ranges.particle_dp<2>(p, psi, mass[p])) << context;
+      }
+    }
+    // Both ways were exercised: listings kept, and made afresh beyond the first.
+    EXPECT_GT(kept, 20) << parts << " parts";
+    EXPECT_GT(relisted, 3) << parts << " parts";
+  }
+}
+
 // The exchange inside the fluid's step (compute_sums, step_fluid) against the exchange around it
 // (compute, step, inject), on a real fluid: 600 particles random-walk over a D2Q7 box with walls
 // (and 500 over a periodic D3Q19 box), a few to a node, some anchored (or none: inside the step

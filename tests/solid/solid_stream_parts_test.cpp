@@ -8,6 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <mutex>
+#include <string>
 #include <random>
 #include <vector>
 
@@ -94,6 +97,76 @@ void check_parts(int dimension) {
     // interior: every particle is summed after the stream).
     for (int parts : {2, 3, 7, 30, 1000}) expect_same_state(one, run(dimension, scrambled, parts, kSteps), parts);
   }
+}
+
+// What a step shows the caller as it goes (stream with a PositionsSeen, for the coupling's next
+// nodes): every particle once, in blocks that run in order through ranges covering all
+// particles, each range finished once after its last block, and a particle's position when seen
+// is its position after the step.
+struct SeenBlocks {
+  struct Block {
+    int first, end;
+    std::vector<double> positions;  // as seen
+  };
+  struct Ranges {
+    std::mutex mutex;
+    std::vector<std::vector<Block>> finished;
+    int unfinished = 0;
+  };
+  const SolidSystem* solid;
+  Ranges* ranges;
+  struct Range {
+    const SeenBlocks* of;
+    std::vector<Block> blocks;
+    void operator()(int first, int end) {
+      const ParticleVectors r = of->solid->positions();
+      blocks.push_back({first, end, {r.data + static_cast<std::size_t>(first) * r.dimension,
+                                     r.data + static_cast<std::size_t>(end) * r.dimension}});
+    }
+    void finish() {
+      std::lock_guard lock(of->ranges->mutex);
+      of->ranges->finished.push_back(std::move(blocks));
+      --of->ranges->unfinished;
+    }
+  };
+  Range range() const {
+    std::lock_guard lock(ranges->mutex);
+    ++ranges->unfinished;
+    return {this, {}};
+  }
+};
+
+TEST(SolidStreamParts, ShowsEachNewPositionOnceInOrderedBlocks) {
+  parallel::ThreadPool pool(3);
+  for (int dimension : {2, 3})
+    for (int parts : {1, 2, 3, 1000}) {
+      SCOPED_TRACE(std::to_string(dimension) + "D, " + std::to_string(parts) + " parts");
+      SolidSystem solid = make_solid(dimension, /*scrambled=*/true);
+      SeenBlocks::Ranges ranges;
+      const std::uint64_t before = solid.positions_version();
+      const std::vector<Vec3> force = loads(solid.particle_count(), dimension, 1);
+      solid.stream([&](int p) { return force[p]; }, SeenBlocks{&solid, &ranges}, parts > 1 ? &pool : nullptr, parts);
+      EXPECT_NE(solid.positions_version(), before);
+      EXPECT_EQ(ranges.unfinished, 0);
+      std::vector<int> seen(solid.particle_count(), 0);
+      const ParticleVectors after = solid.positions();
+      for (const auto& blocks : ranges.finished) {
+        ASSERT_FALSE(blocks.empty());
+        for (std::size_t b = 0; b < blocks.size(); ++b) {
+          if (b > 0) ASSERT_EQ(blocks[b].first, blocks[b - 1].end);  // in order, none skipped
+          for (int p = blocks[b].first; p < blocks[b].end; ++p) {
+            ++seen[p];
+            for (int a = 0; a < dimension; ++a)
+              ASSERT_EQ(blocks[b].positions[static_cast<std::size_t>(p - blocks[b].first) * dimension + a],
+                        after.data[static_cast<std::size_t>(p) * dimension + a])
+                  << "particle " << p;
+          }
+        }
+      }
+      for (int p = 0; p < solid.particle_count(); ++p) ASSERT_EQ(seen[p], 1) << "particle " << p;
+      // A step moves the particles (each has a velocity): the positions seen are the new ones.
+      EXPECT_NE(solid.state().positions, make_solid(dimension, true).state().positions);
+    }
 }
 
 // One step against eqs. 6-7 as MODEL.md writes them, worked out here with a second buffer from

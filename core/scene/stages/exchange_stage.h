@@ -1,7 +1,8 @@
 #pragma once
-// The exchange (MODEL.md section 3): each particle's nearest node, then the momentum exchange
-// against the nodes' pre-collision fluid, in the simulation's parts (its fluid's part inside the
-// fluid's step where that is done: CouplingState::in_step).
+// The exchange (MODEL.md section 3): each particle's nearest node (unless the last solid step
+// found them: CouplingState::located_version), then the momentum exchange against the nodes'
+// pre-collision fluid, in the simulation's parts (its fluid's part inside the fluid's step where
+// that is done: CouplingState::in_step).
 #include <cmath>
 #include <string>
 #include <vector>
@@ -35,7 +36,7 @@ class ExchangeStage final : public StepStage {
             return static_cast<coupling::CellIndex>(locator_.cell(node));
           },
           &pool_, parts);
-    } else {
+    } else if (coupling_.located_version != solid_.positions_version()) {  // not found in the solid's step
       coupling_.exchange.locate_ranges(
           solid_.particle_count(),
           [&](long first, long end, coupling::CellIndex* cells) {

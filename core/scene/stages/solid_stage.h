@@ -24,7 +24,7 @@ namespace lbsolid::scene {
 
 // The records a solid stage may write or read, null where the scene has none.
 struct SolidStageRecords {
-  const CouplingState* coupling = nullptr;  // the exchange's, with a fluid
+  CouplingState* coupling = nullptr;        // the exchange's, with a fluid
   TorqueRecord* torque = nullptr;           // with a rotating body
   AnchorRecord* anchors = nullptr;          // with an anchor
   const ParticleForces* forces = nullptr;   // with point loads or fracture
@@ -74,7 +74,17 @@ class SolidStage final : public StepStage {
       if constexpr (kTorque) torque_->record(p, solid_.position(p), f);
       return f;
     };
-    solid_.stream(force, &pool_, scene_.fluid.threads);
+    if constexpr (kExchange) {
+      if (!coupling_->rotating) {  // the next exchange's nodes found here (coupling_state.h)
+        coupling_->exchange.begin_locate(solid_.particle_count());
+        solid_.stream(force, NextNodes{*coupling_, solid_.positions().data}, &pool_, scene_.fluid.threads);
+        coupling_->located_version = solid_.positions_version();
+      } else {
+        solid_.stream(force, &pool_, scene_.fluid.threads);
+      }
+    } else {
+      solid_.stream(force, &pool_, scene_.fluid.threads);
+    }
     if constexpr (kTorque) torque_->sum(solid_, &pool_, scene_.fluid.threads);
     clock.lap(Stage::kSolid);
   }
@@ -83,7 +93,7 @@ class SolidStage final : public StepStage {
   static constexpr long kDpAhead = 16;  // particles
   const Scene& scene_;
   solid::SolidSystem& solid_;
-  const CouplingState* coupling_;
+  CouplingState* coupling_;
   const solid::ContactWalls& walls_;
   TorqueRecord* torque_;
   AnchorRecord* anchors_;
