@@ -25,6 +25,9 @@ struct SceneRow {
   // measured in rounds alternating with this row's own (0 where not measured): the speed-up then
   // compares steps taken side by side, not minutes apart on a machine whose speed drifts.
   double one_thread_step_seconds = 0, one_thread_reference_seconds = 0;
+  // A coupled scene's box at rest, measured in the same rounds (0 where not measured): the
+  // reference before the reference got the scene's fluid, printed so that both can be read.
+  double rest_reference_seconds = 0;
 };
 
 std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads);

@@ -1,0 +1,71 @@
+// A measurement, not part of the build: what the coupled scenes' fluid-only reference costs at
+// rest and moving (docs/performance.md, "A reference at rest"). The fluid kernel stores each
+// population as its deviation from rest (bgk_collision.h), so a fluid at rest is all zeros.
+//   1. the bare kernel (D3Q19 96^3, D2Q7 1024^2, double) at rest, in a uniform flow, and at rest
+//      with density 1.001 (nothing zero but the velocity);
+//   2. a bench scene (3d: the suspension; 2d: the sheets at 0.1 a cell) against its box at rest
+//      and against its box given the scene's fluid after 50 steps.
+// Build (from the tree's root, after building ./build):
+//   g++ -std=c++20 -O3 -DNDEBUG -ffp-contract=off -Icore -Itests docs/experiments/reference_at_rest.cpp \
+//     build/core/liblbsolid_core.a -lpthread -o reference_at_rest
+//   taskset -c 1 ./reference_at_rest kernel | 3d | 2d
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "bench/bench_scenes.h"
+#include "fluid/fluid_lattice.h"
+#include "lattice/d2q7.h"
+#include "lattice/d3q19.h"
+#include "scene/simulation.h"
+
+using namespace lbsolid;
+
+template <class Steppable>
+double ms_per_step(Steppable& s, int steps) {
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < steps; ++i) s.step();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / steps;
+}
+
+template <class L>
+void kernel_at_rest(int n, int nz, const char* what) {
+  fluid::FluidConfig c;
+  c.nx = c.ny = n;
+  c.nz = nz;
+  fluid::FluidLattice<L, double> rest(c), moving(c), dense(c);
+  moving.initialize_uniform(1.0, {1e-3, 2e-4, nz > 1 ? 3e-4 : 0.0});
+  dense.initialize_uniform(1.001, {0, 0, 0});
+  for (int round = 0; round < 3; ++round)
+    std::printf("%s: at rest %.3f, moving %.3f, at rest with density 1.001 %.3f ms a step\n", what,
+                ms_per_step(rest, 100), ms_per_step(moving, 100), ms_per_step(dense, 100));
+}
+
+void scene_against_box(bool two_d) {
+  scene::Scene s = two_d ? bench::paper_box(1024, 1) : bench::suspension_3d(96, 3, 1);
+  if (two_d) bench::add_sheets(s, 0.1);
+  scene::Scene box = s;
+  box.bodies.clear();
+  auto coupled = scene::build_simulation(s), rest = scene::build_simulation(box), moved = scene::build_simulation(box);
+  coupled->run(50);
+  scene::SimulationState state = coupled->save_state();
+  state.has_solid = false;
+  state.solid = {};
+  moved->load_state(state);
+  const double particles = static_cast<double>(coupled->solid()->particle_count());
+  for (int round = 0; round < 4; ++round) {
+    const double c = ms_per_step(*coupled, 100), a = ms_per_step(*rest, 100), m = ms_per_step(*moved, 100);
+    std::printf("coupled %.3f, box at rest %.3f, box with the scene's fluid %.3f ms a step: %.1f / %.1f ns a particle\n",
+                c, a, m, 1e6 * (c - a) / particles, 1e6 * (c - m) / particles);
+  }
+}
+
+int main(int argc, char** argv) {
+  const std::string what = argc > 1 ? argv[1] : "kernel";
+  if (what == "kernel") {
+    kernel_at_rest<lattice::D3Q19>(96, 96, "D3Q19 96^3");
+    kernel_at_rest<lattice::D2Q7>(1024, 1, "D2Q7 1024^2");
+  } else {
+    scene_against_box(what == "2d");
+  }
+}
