@@ -3,6 +3,7 @@
 // separate processes run alternately, and one build linked several ways (padded_links.sh).
 //   scene_steps SCENE STEPS THREADS [clock]   SCENE: 2d01, 2d1 (D2Q7 sheets at 0.1 and 1 a
 //   cell), 2dbox (their box without sheets), 3d (the D3Q19 suspension), 3dbox (its box without balls)
+//   (the boxes at rest, which step faster than a moving fluid: docs/performance.md, "A reference at rest")
 // Build (from the tree's root, after building ./build):
 //   g++ -std=c++20 -O3 -DNDEBUG -ffp-contract=off -Icore -Itests docs/experiments/scene_steps.cpp \
 //     build/core/liblbsolid_core.a -lpthread -o scene_steps
