@@ -4,14 +4,18 @@
 //   1. the bare kernel (D3Q19 96^3, D2Q7 1024^2, double) at rest, in a uniform flow, and at rest
 //      with density 1.001 (nothing zero but the velocity);
 //   2. a bench scene (3d: the suspension; 2d: the sheets at 0.1 a cell) against its box at rest
-//      and against its box given the scene's fluid after 50 steps.
+//      and against its box given the scene's fluid after 50 steps, in 40 alternating rounds of 10
+//      steps: the medians and quartiles of the rounds' differences in ns a particle.
 // Build (from the tree's root, after building ./build):
 //   g++ -std=c++20 -O3 -DNDEBUG -ffp-contract=off -Icore -Itests docs/experiments/reference_at_rest.cpp \
 //     build/core/liblbsolid_core.a -lpthread -o reference_at_rest
 //   taskset -c 1 ./reference_at_rest kernel | 3d | 2d
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "bench/bench_scenes.h"
 #include "fluid/fluid_lattice.h"
@@ -53,11 +57,20 @@ void scene_against_box(bool two_d) {
   state.solid = {};
   moved->load_state(state);
   const double particles = static_cast<double>(coupled->solid()->particle_count());
-  for (int round = 0; round < 4; ++round) {
-    const double c = ms_per_step(*coupled, 100), a = ms_per_step(*rest, 100), m = ms_per_step(*moved, 100);
-    std::printf("coupled %.3f, box at rest %.3f, box with the scene's fluid %.3f ms a step: %.1f / %.1f ns a particle\n",
-                c, a, m, 1e6 * (c - a) / particles, 1e6 * (c - m) / particles);
+  // 40 rounds of 10 steps each in turn; the medians (and quartiles) of the rounds' differences.
+  std::vector<double> over_rest, over_moved;
+  for (int round = 0; round < 40; ++round) {
+    const double c = ms_per_step(*coupled, 10), a = ms_per_step(*rest, 10), m = ms_per_step(*moved, 10);
+    over_rest.push_back(1e6 * (c - a) / particles);
+    over_moved.push_back(1e6 * (c - m) / particles);
   }
+  auto quartiles = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return std::array<double, 3>{v[v.size() / 4], v[v.size() / 2], v[3 * v.size() / 4]};
+  };
+  const auto r = quartiles(over_rest), m = quartiles(over_moved);
+  std::printf("ns a particle over the box at rest: median %.1f (quartiles %.1f, %.1f); over the box with the scene's "
+              "fluid: median %.1f (quartiles %.1f, %.1f)\n", r[1], r[0], r[2], m[1], m[0], m[2]);
 }
 
 int main(int argc, char** argv) {

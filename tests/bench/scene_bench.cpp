@@ -61,7 +61,7 @@ constexpr int kStepsBeforeReference = 30;
 // coupled step's stages. With more than one thread, the same two steps with one thread take
 // their turns in the same rounds. The fluid-only scene starts from the coupled scene's fluid,
 // not from rest: the D3Q19 kernel steps a fluid at rest (every stored deviation zero) 7-11%
-// faster than a moving one, which put 80 ns a particle of fluid into the 3D coupling's figure
+// faster than a moving one, which put 30-45 ns a particle of fluid into the 3D coupling's figure
 // (docs/performance.md, "A reference at rest").
 SceneRow coupled_against_fluid(const std::string& what, const std::string& lattice, const Scene& coupled,
                                double min_seconds) {
