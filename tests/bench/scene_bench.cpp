@@ -4,6 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "bench/bench_scenes.h"
 #include "scene/simulation.h"
@@ -57,14 +60,41 @@ scene::StageClock::Seconds stage_seconds_per_step(scene::Simulation& sim, double
 // along any axis from a ball's centre; D3Q19's velocities cross (12, 12, 12) in 18 steps).
 constexpr int kStepsBeforeReference = 30;
 
+// The quartiles of v (not empty).
+SceneRow::Quartiles quartiles(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return {v[n / 4], v[n / 2], v[(3 * n) / 4]};
+}
+
+// The coupled step's extra seconds a step over the reference and over the box at rest, from
+// `rounds` rounds of `steps` steps of each in turn: a round's three are taken within a fraction
+// of a second, so that the machine's drift between them is small.
+std::pair<SceneRow::Quartiles, SceneRow::Quartiles> paired_rounds(scene::Simulation& coupled,
+                                                                 scene::Simulation& reference,
+                                                                 scene::Simulation& at_rest, int rounds, int steps) {
+  auto seconds = [steps](scene::Simulation& sim) {
+    const auto start = std::chrono::steady_clock::now();
+    sim.run(steps);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / steps;
+  };
+  std::vector<double> over_reference, over_rest;
+  for (int round = 0; round < rounds; ++round) {
+    const double c = seconds(coupled), r = seconds(reference), z = seconds(at_rest);
+    over_reference.push_back(c - r);
+    over_rest.push_back(c - z);
+  }
+  return {quartiles(over_reference), quartiles(over_rest)};
+}
+
 // A coupled scene against the same scene without its bodies, in alternating rounds, with the
 // coupled step's stages. With more than one thread, the same two steps with one thread take
 // their turns in the same rounds. The fluid-only scene starts from the coupled scene's fluid,
-// not from rest: the D3Q19 kernel steps a fluid at rest (every stored deviation zero) 7-11%
+// not from rest: the D3Q19 kernel steps a fluid at rest (every stored deviation zero) 5-10%
 // faster than a moving one, which put 30-45 ns a particle of fluid into the 3D coupling's figure
 // (docs/performance.md, "A reference at rest").
 SceneRow coupled_against_fluid(const std::string& what, const std::string& lattice, const Scene& coupled,
-                               double min_seconds) {
+                               double min_seconds, int rounds) {
   Scene fluid_only = coupled;
   fluid_only.bodies.clear();
   const int threads = coupled.fluid.threads;
@@ -87,12 +117,11 @@ SceneRow coupled_against_fluid(const std::string& what, const std::string& latti
     b1->run(kStepsBeforeReference);
     a1->load_state(fluid_of_b);  // the threads' results are the same bit for bit
   }
-  double plain = INFINITY, with_solid = INFINITY, rest = INFINITY, plain_one = 0, with_solid_one = 0;
+  double plain = INFINITY, with_solid = INFINITY, plain_one = 0, with_solid_one = 0;
   if (threads > 1) plain_one = with_solid_one = INFINITY;
   for (int round = 0; round < (threads > 1 ? 3 : 2); ++round) {
     plain = std::min(plain, seconds_per_step([&] { a->step(); }, min_seconds));
     with_solid = std::min(with_solid, seconds_per_step([&] { b->step(); }, min_seconds));
-    rest = std::min(rest, seconds_per_step([&] { at_rest->step(); }, min_seconds));
     if (threads == 1) continue;
     plain_one = std::min(plain_one, seconds_per_step([&] { a1->step(); }, min_seconds));
     with_solid_one = std::min(with_solid_one, seconds_per_step([&] { b1->step(); }, min_seconds));
@@ -103,7 +132,7 @@ SceneRow coupled_against_fluid(const std::string& what, const std::string& latti
                stage_seconds_per_step(*b, min_seconds)};
   row.one_thread_step_seconds = with_solid_one;
   row.one_thread_reference_seconds = plain_one;
-  row.rest_reference_seconds = rest;
+  std::tie(row.over_reference, row.over_rest) = paired_rounds(*b, *a, *at_rest, rounds, 10);
   return row;
 }
 
@@ -112,6 +141,7 @@ SceneRow coupled_against_fluid(const std::string& what, const std::string& latti
 std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads) {
   std::vector<SceneRow> rows;
   const double min_seconds = quick ? 0.5 : 2.0;
+  const int rounds = quick ? 10 : 20;  // of the paired rounds (paired_rounds)
   const int n = quick ? 512 : 1024;
 
   // 1. A fluid-only scene through the builder against the bare kernel, interleaved A/B/A/B.
@@ -145,14 +175,14 @@ std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads) {
     add_sheets(coupled, per_cell);
     char what[64];
     std::snprintf(what, sizeof what, "coupled, %.1f particles per cell", per_cell);
-    rows.push_back(coupled_against_fluid(what, "D2Q7", coupled, min_seconds));
+    rows.push_back(coupled_against_fluid(what, "D2Q7", coupled, min_seconds, rounds));
   }
   // 4. The 3D suspension against its fluid-only box.
   {
     const int side = quick ? 64 : 96, k = quick ? 2 : 3;
     char what[64];
     std::snprintf(what, sizeof what, "3D, %d balls of radius 4", k * k * k);
-    rows.push_back(coupled_against_fluid(what, "D3Q19", suspension_3d(side, k, threads), min_seconds));
+    rows.push_back(coupled_against_fluid(what, "D3Q19", suspension_3d(side, k, threads), min_seconds, rounds));
   }
   return rows;
 }
@@ -174,14 +204,17 @@ void print_scene_rows(const std::vector<SceneRow>& rows) {
                 r.fluid_bytes / 1048576.0, r.solid_bytes / 1048576.0,
                 r.particles ? std::to_string(per_particle).substr(0, 6).c_str() : "-");
   }
-  // The coupled steps against their box at rest as well (the reference until the reference got the
-  // scene's fluid): the difference between the two is the fluid kernel's, not the coupling's.
-  std::printf("\n%-36s %7s %12s %12s %13s\n", "coupled against a box at rest", "threads", "ms/step", "rest ms/step",
-              "ns/particle");
+  // The coupled steps' ns per particle again, by short alternating rounds (paired_rounds), over the
+  // reference and over the box at rest (the reference until the reference got the scene's fluid:
+  // the difference between the two is the fluid kernel's, not the coupling's).
+  std::printf("\n%-36s %7s %30s %30s\n", "ns/particle by paired rounds", "threads", "over ref: median (quartiles)",
+              "over box at rest: median (q.)");
   for (const SceneRow& r : rows) {
-    if (r.rest_reference_seconds <= 0) continue;
-    std::printf("%-36s %7d %12.3f %12.3f %13.2f\n", r.what.c_str(), r.threads, 1e3 * r.step_seconds,
-                1e3 * r.rest_reference_seconds, 1e9 * (r.step_seconds - r.rest_reference_seconds) / r.particles);
+    if (r.over_reference.median == 0 && r.over_rest.median == 0) continue;
+    const double ns = 1e9 / static_cast<double>(r.particles);
+    std::printf("%-36s %7d %10.1f (%7.1f, %7.1f) %10.1f (%7.1f, %7.1f)\n", r.what.c_str(), r.threads,
+                ns * r.over_reference.median, ns * r.over_reference.low, ns * r.over_reference.high,
+                ns * r.over_rest.median, ns * r.over_rest.low, ns * r.over_rest.high);
   }
   // The coupled steps stage by stage, in ns per particle per step (the fluid's too, for scale).
   std::printf("\n%-36s %7s", "coupled step by stage (ns/particle)", "threads");
@@ -226,11 +259,13 @@ void print_scene_rows_json(const std::vector<SceneRow>& rows) {
     const SceneRow& r = rows[k];
     std::printf("    {\"scene\": \"%s\", \"lattice\": \"%s\", \"threads\": %d, \"cells\": %ld, \"particles\": %ld, \"seconds_per_step\": %.6g, "
                 "\"reference_seconds_per_step\": %.6g, \"one_thread_seconds_per_step\": %.6g, "
-                "\"one_thread_reference_seconds_per_step\": %.6g, \"rest_reference_seconds_per_step\": %.6g, "
+                "\"one_thread_reference_seconds_per_step\": %.6g, \"paired_rounds_over_reference_seconds\": [%.6g, %.6g, %.6g], "
+                "\"paired_rounds_over_rest_seconds\": [%.6g, %.6g, %.6g], "
                 "\"fluid_bytes\": %.0f, \"solid_bytes\": %.0f, \"stage_seconds_per_step\": {",
                 r.what.c_str(), r.lattice.c_str(), r.threads, r.cells, r.particles, r.step_seconds, r.reference_seconds,
-                r.one_thread_step_seconds, r.one_thread_reference_seconds, r.rest_reference_seconds, r.fluid_bytes,
-                r.solid_bytes);
+                r.one_thread_step_seconds, r.one_thread_reference_seconds, r.over_reference.low,
+                r.over_reference.median, r.over_reference.high, r.over_rest.low, r.over_rest.median, r.over_rest.high,
+                r.fluid_bytes, r.solid_bytes);
     for (int s = 0; s < scene::kStageCount; ++s)
       std::printf("%s\"%s\": %.6g", s ? ", " : "", scene::stage_name(static_cast<scene::Stage>(s)), r.stage_seconds[s]);
     std::printf("}}%s\n", k + 1 < rows.size() ? "," : "");

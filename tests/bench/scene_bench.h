@@ -25,9 +25,15 @@ struct SceneRow {
   // measured in rounds alternating with this row's own (0 where not measured): the speed-up then
   // compares steps taken side by side, not minutes apart on a machine whose speed drifts.
   double one_thread_step_seconds = 0, one_thread_reference_seconds = 0;
-  // A coupled scene's box at rest, measured in the same rounds (0 where not measured): the
-  // reference before the reference got the scene's fluid, printed so that both can be read.
-  double rest_reference_seconds = 0;
+  // A coupled scene's extra seconds per step by short alternating rounds (zero where not
+  // measured): each round steps the scene, its reference and its box at rest in turn, and these
+  // are the quartiles of the rounds' differences. Steadier than the difference of two best
+  // segments, which is a draw on this VM. Over the box at rest: the reference before the
+  // reference got the scene's fluid, so that both can be read.
+  struct Quartiles {
+    double low = 0, median = 0, high = 0;
+  };
+  Quartiles over_reference, over_rest;
 };
 
 std::vector<SceneRow> run_scene_benchmarks(bool quick, int threads);
