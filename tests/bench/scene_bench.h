@@ -26,8 +26,8 @@ struct SceneRow {
   // compares steps taken side by side, not minutes apart on a machine whose speed drifts.
   double one_thread_step_seconds = 0, one_thread_reference_seconds = 0;
   // A coupled scene's extra seconds per step by short alternating rounds (zero where not
-  // measured): each round steps the scene, its reference and its box at rest in turn, and these
-  // are the quartiles of the rounds' differences. Steadier than the difference of two best
+  // measured): each round steps the scene against its reference and against its box at rest in
+  // ABBA order (paired_rounds), and these are the quartiles of the rounds' differences. Steadier than the difference of two best
   // segments, which is a draw on this VM. Over the box at rest: the reference before the
   // reference got the scene's fluid, so that both can be read.
   struct Quartiles {
