@@ -6,10 +6,13 @@
 //   2. a bench scene (3d: the suspension; 2d: the sheets at 0.1 a cell) against its box at rest
 //      and against its box given the scene's fluid after 50 steps, in 40 alternating rounds of 10
 //      steps: the medians and quartiles of the rounds' differences in ns a particle.
+//   3. order: the suspension over its box with the scene's fluid in ABBA rounds of 10 steps, and
+//      in rounds where its box at rest steps just before the coupled segment, or just before the
+//      reference segment (what ran just before moves a segment on this VM).
 // Build (from the tree's root, after building ./build):
 //   g++ -std=c++20 -O3 -DNDEBUG -ffp-contract=off -Icore -Itests docs/experiments/reference_at_rest.cpp \
 //     build/core/liblbsolid_core.a -lpthread -o reference_at_rest
-//   taskset -c 1 ./reference_at_rest kernel | 3d | 2d
+//   taskset -c 1 ./reference_at_rest kernel | 3d | 2d | order
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -73,11 +76,52 @@ void scene_against_box(bool two_d) {
               "fluid: median %.1f (quartiles %.1f, %.1f)\n", r[1], r[0], r[2], m[1], m[0], m[2]);
 }
 
+void order_of_rounds() {
+  scene::Scene s = bench::suspension_3d(96, 3, 1);
+  scene::Scene box = s;
+  box.bodies.clear();
+  auto coupled = scene::build_simulation(s), rest = scene::build_simulation(box), moved = scene::build_simulation(box);
+  coupled->run(30);
+  scene::SimulationState state = coupled->save_state();
+  state.has_solid = false;
+  state.solid = {};
+  moved->load_state(state);
+  const double particles = static_cast<double>(coupled->solid()->particle_count());
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  for (int repeat = 0; repeat < 2; ++repeat) {
+    std::vector<double> abba, rest_before_coupled, rest_before_reference;
+    for (int round = 0; round < 20; ++round) {
+      const double c1 = ms_per_step(*coupled, 10), m1 = ms_per_step(*moved, 10);
+      const double m2 = ms_per_step(*moved, 10), c2 = ms_per_step(*coupled, 10);
+      abba.push_back(1e6 * ((c1 + c2) - (m1 + m2)) / 2 / particles);
+    }
+    for (int round = 0; round < 20; ++round) {
+      ms_per_step(*rest, 10);
+      const double c = ms_per_step(*coupled, 10), m = ms_per_step(*moved, 10);
+      rest_before_coupled.push_back(1e6 * (c - m) / particles);
+    }
+    for (int round = 0; round < 20; ++round) {
+      const double c = ms_per_step(*coupled, 10);
+      ms_per_step(*rest, 10);
+      const double m = ms_per_step(*moved, 10);
+      rest_before_reference.push_back(1e6 * (c - m) / particles);
+    }
+    std::printf("medians, ns a particle over the box with the scene's fluid: ABBA %.1f; the box at rest just before "
+                "the coupled segment %.1f, just before the reference %.1f\n",
+                median(abba), median(rest_before_coupled), median(rest_before_reference));
+  }
+}
+
 int main(int argc, char** argv) {
   const std::string what = argc > 1 ? argv[1] : "kernel";
   if (what == "kernel") {
     kernel_at_rest<lattice::D3Q19>(96, 96, "D3Q19 96^3");
     kernel_at_rest<lattice::D2Q7>(1024, 1, "D2Q7 1024^2");
+  } else if (what == "order") {
+    order_of_rounds();
   } else {
     scene_against_box(what == "2d");
   }
