@@ -70,9 +70,9 @@ SceneRow::Quartiles quartiles(std::vector<double> v) {
 // The coupled step's extra seconds a step over the reference and over the box at rest, from
 // `rounds` rounds of `steps` steps each, in the order coupled, reference, reference, coupled, then
 // coupled, at rest, at rest, coupled: each difference is taken within a second, and in ABBA order,
-// since what ran just before moves a segment (a box at rest before the coupled segment read the
-// 3D figure 4-7 ns a particle lower, before the reference segment 3-4 higher: docs/experiments/
-// reference_at_rest.cpp, order).
+// since what ran just before can move a segment (in one run a box at rest before the coupled
+// segment read the 3D figure 4-10 ns a particle lower, before the reference 3-4 higher; in
+// another, no such effect: docs/experiments/reference_at_rest.cpp, order).
 std::pair<SceneRow::Quartiles, SceneRow::Quartiles> paired_rounds(scene::Simulation& coupled,
                                                                  scene::Simulation& reference,
                                                                  scene::Simulation& at_rest, int rounds, int steps) {
