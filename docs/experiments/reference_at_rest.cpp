@@ -17,6 +17,7 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -48,18 +49,31 @@ void kernel_at_rest(int n, int nz, const char* what) {
                 ms_per_step(rest, 100), ms_per_step(moving, 100), ms_per_step(dense, 100));
 }
 
+// A scene, its box at rest, and its box given the scene's fluid after `steps` coupled steps.
+struct SceneAndBoxes {
+  std::unique_ptr<scene::Simulation> coupled, rest, moved;
+  double particles;
+  SceneAndBoxes(const scene::Scene& s, int steps) {
+    scene::Scene box = s;
+    box.bodies.clear();
+    coupled = scene::build_simulation(s);
+    rest = scene::build_simulation(box);
+    moved = scene::build_simulation(box);
+    coupled->run(steps);
+    scene::SimulationState state = coupled->save_state();
+    state.has_solid = false;
+    state.solid = {};
+    moved->load_state(state);
+    particles = static_cast<double>(coupled->solid()->particle_count());
+  }
+};
+
 void scene_against_box(bool two_d) {
   scene::Scene s = two_d ? bench::paper_box(1024, 1) : bench::suspension_3d(96, 3, 1);
   if (two_d) bench::add_sheets(s, 0.1);
-  scene::Scene box = s;
-  box.bodies.clear();
-  auto coupled = scene::build_simulation(s), rest = scene::build_simulation(box), moved = scene::build_simulation(box);
-  coupled->run(50);
-  scene::SimulationState state = coupled->save_state();
-  state.has_solid = false;
-  state.solid = {};
-  moved->load_state(state);
-  const double particles = static_cast<double>(coupled->solid()->particle_count());
+  SceneAndBoxes sims(s, 50);
+  auto &coupled = sims.coupled, &rest = sims.rest, &moved = sims.moved;
+  const double particles = sims.particles;
   // 40 rounds of 10 steps each in turn; the medians (and quartiles) of the rounds' differences.
   std::vector<double> over_rest, over_moved;
   for (int round = 0; round < 40; ++round) {
@@ -77,16 +91,9 @@ void scene_against_box(bool two_d) {
 }
 
 void order_of_rounds() {
-  scene::Scene s = bench::suspension_3d(96, 3, 1);
-  scene::Scene box = s;
-  box.bodies.clear();
-  auto coupled = scene::build_simulation(s), rest = scene::build_simulation(box), moved = scene::build_simulation(box);
-  coupled->run(30);
-  scene::SimulationState state = coupled->save_state();
-  state.has_solid = false;
-  state.solid = {};
-  moved->load_state(state);
-  const double particles = static_cast<double>(coupled->solid()->particle_count());
+  SceneAndBoxes sims(bench::suspension_3d(96, 3, 1), 30);
+  auto &coupled = sims.coupled, &rest = sims.rest, &moved = sims.moved;
+  const double particles = sims.particles;
   auto median = [](std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
