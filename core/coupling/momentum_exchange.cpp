@@ -138,7 +138,11 @@ void MomentumExchange::sort_by_part(parallel::ThreadPool* pool) {
     std::fill(part_of_block_.begin() + parts_[k].first_block, part_of_block_.begin() + parts_[k].end_block,
               static_cast<std::uint16_t>(k));
   // Range r of the particle indices (one a thread of the pool) counts its particles per part; the
-  // ranges then write their indices, in order, where their counts place them.
+  // ranges then write their indices, in order, where their counts place them. Each range counts
+  // and advances in a copy of its own: the ranges' rows of range_counts_ share cache lines, and
+  // incremented there by two threads at once, every increment moved the line from one core to
+  // the other (the sort of 105k particles on two threads took 0.86 ms, against 0.14 ms for the
+  // whole listing on one).
   const long n = static_cast<long>(cell_.size());
   const int ranges = std::min(parts, pool->size());
   range_counts_.assign(static_cast<std::size_t>(ranges) * parts, 0);
@@ -151,8 +155,9 @@ void MomentumExchange::sort_by_part(parallel::ThreadPool* pool) {
   const std::uint16_t* __restrict part_of_block = part_of_block_.data();
   const int shift = block_shift_;
   each_range([&](long r, long first, long end) {
-    long* __restrict counts = range_counts_.data() + r * parts;
+    std::vector<long> counts(parts, 0);
     for (long p = first; p < end; ++p) ++counts[part_of_block[cells[p] >> shift]];
+    std::copy(counts.begin(), counts.end(), range_counts_.begin() + r * parts);
   });
   long at = 0;  // range_counts_ becomes where each (range, part) writes: part by part, range by range
   for (int k = 0; k < parts; ++k) {
@@ -167,7 +172,7 @@ void MomentumExchange::sort_by_part(parallel::ThreadPool* pool) {
   order_.resize(n);
   std::uint32_t* __restrict order = order_.data();
   each_range([&](long r, long first, long end) {
-    long* __restrict next = range_counts_.data() + r * parts;
+    std::vector<long> next(range_counts_.begin() + r * parts, range_counts_.begin() + (r + 1) * parts);
     for (long p = first; p < end; ++p) order[next[part_of_block[cells[p] >> shift]]++] = static_cast<std::uint32_t>(p);
   });
 }
