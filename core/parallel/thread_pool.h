@@ -9,7 +9,8 @@
 //
 // A pool thread that finds no work stays awake for kStayAwake (yielding) before it sleeps: the
 // jobs of one simulation step come microseconds apart, and a thread woken from sleep for each
-// came too late for a short job, whose caller had meanwhile run every part itself.
+// came too late for a short job, whose caller had meanwhile run every part itself. For the same
+// reason a caller done with its parts watches for the others' end (kWatchForEnd) before sleeping.
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -31,6 +32,8 @@ class ThreadPool {
   ThreadPool& operator=(const ThreadPool&) = delete;
 
   static constexpr std::chrono::microseconds kStayAwake{200};
+  // A caller whose parts are done watches for the others' end this long before it sleeps.
+  static constexpr std::chrono::microseconds kWatchForEnd{100};
 
   int size() const { return static_cast<int>(workers_.size()) + 1; }
 
@@ -46,7 +49,7 @@ class ThreadPool {
     long n;
     int parts;
     int next_part = 0;  // the first part nobody has taken
-    int unfinished;     // parts not yet done
+    std::atomic<int> unfinished;  // parts not yet done
   };
   // Takes the next part of `job` (the mutex held); removes the job from the queue with its last.
   int take_part_locked(Job& job);
