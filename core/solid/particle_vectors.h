@@ -30,10 +30,11 @@ struct ParticleVectors {
 // a particle slower.
 // Read and written as a vector of doubles, which GCC lets alias only doubles: through memcpy (as
 // before) each store might have changed any object, so what the solid's step had read before it
-// (array addresses, the stage's members) was read again after it (the solid stage -0.3 to -0.5
+// (array addresses, the stage's members) was read again after it (the solid stage -0.3 to -0.7
 // ns a particle in 2D, separate processes run alternately).
 using XyPair = double __attribute__((vector_size(16)));
-using UnalignedXyPair = double __attribute__((vector_size(16), aligned(alignof(double))));
+// (A typedef: Clang ignores the alignment in a `using` alias, and the pair then needs 16 bytes.)
+typedef double UnalignedXyPair __attribute__((vector_size(16), aligned(alignof(double))));
 inline XyPair load_xy(const double* v) { return *reinterpret_cast<const UnalignedXyPair*>(v); }
 inline void store_xy(double* v, XyPair p) { *reinterpret_cast<UnalignedXyPair*>(v) = p; }
 
