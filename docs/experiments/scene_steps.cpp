@@ -2,7 +2,9 @@
 // step (with `clock`, each stage's ns a particle), so that two builds can be compared in
 // separate processes run alternately, and one build linked several ways (padded_links.sh).
 //   scene_steps SCENE STEPS THREADS [clock]   SCENE: 2d01, 2d1 (D2Q7 sheets at 0.1 and 1 a
-//   cell), 2dbox (their box without sheets), 3d (the D3Q19 suspension), 3dbox (its box without balls)
+//   cell), 2dbox (their box without sheets), 3d (the D3Q19 suspension), 3dbox (its box without balls),
+//   3d512 (the bench's denser suspension, 512 balls), 3d512z (the same with each ball's x and z
+//   swapped: the particles' index order then follows the cells' order, z slowest)
 //   (the boxes at rest, which step faster than a moving fluid: docs/performance.md, "A reference at rest")
 // Build (from the tree's root, after building ./build):
 //   g++ -std=c++20 -O3 -DNDEBUG -ffp-contract=off -Icore -Itests docs/experiments/scene_steps.cpp \
@@ -11,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 
 #include "bench/bench_scenes.h"
 #include "scene/simulation.h"
@@ -26,11 +29,15 @@ int main(int argc, char** argv) {
   if (which == "3d" || which == "3dbox") {
     s = bench::suspension_3d(96, 3, threads);
     if (which == "3dbox") s.bodies.clear();
+  } else if (which == "3d512" || which == "3d512z") {
+    s = bench::suspension_3d(96, 8, threads);
+    if (which == "3d512z")
+      for (auto& ball : s.bodies) std::swap(ball.centre[0], ball.centre[2]);
   } else if (which == "2d1" || which == "2d01" || which == "2dbox") {
     s = bench::paper_box(1024, threads);
     if (which != "2dbox") bench::add_sheets(s, which == "2d1" ? 1.0 : 0.1);
   } else {
-    std::fprintf(stderr, "scene: 2d01, 2d1, 2dbox, 3d or 3dbox, not '%s'\n", which.c_str());
+    std::fprintf(stderr, "scene: 2d01, 2d1, 2dbox, 3d, 3dbox, 3d512 or 3d512z, not '%s'\n", which.c_str());
     return 2;
   }
   auto sim = scene::build_simulation(s);

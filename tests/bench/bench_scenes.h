@@ -45,7 +45,8 @@ inline void add_sheets(Scene& s, double per_cell) {
 }
 
 // A periodic D3Q19 box of n^3 nodes with balls of radius 4 (about 270 particles each) on a
-// regular k x k x k grid: a dilute suspension (issue 15's 3D case: 27 balls in 96^3).
+// regular k x k x k grid: a dilute suspension (issue 15's 3D case: 27 balls in 96^3), or a denser
+// one (512 balls in 96^3, 3 cells between neighbours).
 inline Scene suspension_3d(int n, int k, int threads) {
   Scene s;
   s.lattice = scene::LatticeKind::kD3Q19;
