@@ -33,6 +33,8 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
         f_(f),
         local_(local),
         in_blocks_(fluid.blocks()) {}
+  StepNodes(const StepNodes&) = delete;  // slots_ points into the object's own part_slots_
+  StepNodes& operator=(const StepNodes&) = delete;
 
  private:
   static constexpr int kRunBlock = 8;
@@ -51,7 +53,7 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
     count = 0;
     run_with_isa(kernel_isa(), [&]() LBSOLID_FORCE_INLINE_LAMBDA {
       for_each_run(word_first, bits, [&](long cell, int n, bool interior) LBSOLID_FORCE_INLINE_LAMBDA {
-        const int blocks = interior && slots_.plain && !in_blocks_ ? n / kRunBlock : 0;
+        const int blocks = interior && slots_->plain && !in_blocks_ ? n / kRunBlock : 0;
         for (int b = 0; b < blocks; ++b) add_block(cell + b * kRunBlock, count + b * kRunBlock);
         for (int k = blocks * kRunBlock; k < n; ++k) add(cell + k, gain_of(count + k));
         count += n;
@@ -94,8 +96,12 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
   }
 
   // The row, plan and slots of `cell`'s part of its row. A row's nodes come together: its plan is
-  // looked up (two divisions) once, and the slots worked out again only where the sources differ
-  // (the edge cells; rows share their interior's).
+  // looked up (two divisions) once, and each part's slots worked out again only where its sources
+  // differ from those that part last had (rows share their interior's, and most rows their edge
+  // cells'). Kept per part: a body across the periodic x side has nodes at both ends of its rows,
+  // which go part 0, 1, 2, 0, ... and with a single set of slots worked them out at nearly every
+  // node there (152 offsets in blocks): 512 balls in 96^3 (bench_scenes.h), one thread, stepped
+  // 27-43% slower with a column of balls across that side than without.
   LBSOLID_FORCE_INLINE void locate(long cell) {
     const long nx = fluid_.config_.nx;
     if (cell < row_first_ || cell >= row_first_ + nx) {
@@ -107,10 +113,11 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
     if (const int part = RowPlans<L, T>::part_of(static_cast<int>(cell - row_first_), static_cast<int>(nx)); part != part_) {
       part_ = part;
       const auto& sources = fluid_.plans_.sources(row_, part);
-      if (&sources != sources_) {
-        slots_ = fluid_.injection_slots(sources, local_);
-        sources_ = &sources;
+      if (&sources != part_sources_[part]) {
+        part_slots_[part] = fluid_.injection_slots(sources, local_);
+        part_sources_[part] = &sources;
       }
+      slots_ = &part_slots_[part];
     }
   }
 
@@ -119,9 +126,9 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
     locate(cell);
     std::array<T, Q> stored;
     if (in_blocks_)
-      for (int i = 0; i < Q; ++i) stored[i] = f_[fluid_.template slot_index<true>(slots_, i, cell)];
+      for (int i = 0; i < Q; ++i) stored[i] = f_[fluid_.template slot_index<true>(*slots_, i, cell)];
     else
-      for (int i = 0; i < Q; ++i) stored[i] = f_[cell + slots_.offset[i]];
+      for (int i = 0; i < Q; ++i) stored[i] = f_[cell + slots_->offset[i]];
     DensityMomentum fluid = fluid_.density_momentum_of(stored, *plan_);
     // The collision added F to sum_i f_i c_i; density_momentum_of added F/2 more.
     if (fluid_.has_force_)
@@ -135,7 +142,7 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
     // density_momentum_of()'s sums, direction by direction, across the nodes.
     [&]<int... I>(std::integer_sequence<int, I...>) LBSOLID_FORCE_INLINE_LAMBDA {
       ([&]() LBSOLID_FORCE_INLINE_LAMBDA {
-        const T* __restrict from = f_ + cell + slots_.offset[I];
+        const T* __restrict from = f_ + cell + slots_->offset[I];
         for (int k = 0; k < kRunBlock; ++k) {
           const T g = from[k];
           const double v = static_cast<double>(g);
@@ -160,8 +167,8 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
   // Its gain, through the slots read() last worked out: the cells of one row part.
   void add(long cell, const std::array<double, 3>& gain) {
     if (RowPlans<L, T>::part_of(static_cast<int>(cell - row_first_), fluid_.config_.nx) != part_) locate(cell);
-    if (in_blocks_) fluid_.template add_at<true>(f_, slots_, cell, gain.data());
-    else fluid_.template add_at<false>(f_, slots_, cell, gain.data());
+    if (in_blocks_) fluid_.template add_at<true>(f_, *slots_, cell, gain.data());
+    else fluid_.template add_at<false>(f_, *slots_, cell, gain.data());
   }
   // add() for the kRunBlock inner nodes from `cell` on (slots_ theirs, plain), the gains of
   // gains_'s nodes [at, at + kRunBlock).
@@ -181,9 +188,9 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
             if constexpr (D == 3) c_dot_dp = lattice::add_c<L, I, 2>(c_dot_dp, dp[2][k]);
             term[k] = L::w[I] * c_dot_dp / L::cs2;
           }
-          T* __restrict to_i = f_ + cell + slots_.offset[I];
+          T* __restrict to_i = f_ + cell + slots_->offset[I];
           for (int k = 0; k < kRunBlock; ++k) to_i[k] += static_cast<T>(term[k]);
-          T* __restrict to_j = f_ + cell + slots_.offset[J];
+          T* __restrict to_j = f_ + cell + slots_->offset[J];
           for (int k = 0; k < kRunBlock; ++k) to_j[k] += static_cast<T>(-term[k]);
         }
       }(), ...);
@@ -201,8 +208,10 @@ class FluidLattice<L, T>::StepNodes final : public FinishedCells {
   long row_ = -1, row_first_ = -(1L << 62);
   const RowPlan<T, Q>* plan_ = nullptr;
   int part_ = -1;
-  const PullSources<T, Q>* sources_ = nullptr;
-  InjectionSlots slots_{};
+  // Each part's slots and the sources they were worked out from (none yet), and the current part's.
+  std::array<const PullSources<T, Q>*, 3> part_sources_{};
+  std::array<InjectionSlots, 3> part_slots_{};
+  const InjectionSlots* slots_ = &part_slots_[1];
 };
 
 }  // namespace lbsolid::fluid
